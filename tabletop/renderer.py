@@ -235,7 +235,7 @@ class Renderer:
         t = frame.t
         if self._last_play_t is None:
             self._last_play_t = self._last_present_t = t
-        designing = any(c.kind == "studio" and c.action not in (None, "idle")
+        designing = any(c.kind == "studio" and c.action not in (None, "idle", "quiet")
                         for c in frame.characters)   # a designer's take in progress
         present = bool(frame.pucks or frame.touches or frame.streams or designing)
         if present:

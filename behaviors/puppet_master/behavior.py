@@ -28,7 +28,7 @@ from behaviors.puppet_master.demonstrated import (charge_entries, charges, circl
                                                   relative_world_steps, still_main_speed,
                                                   straightness)
 from behaviors.puppet_master.look import train_look, train_place
-from behaviors.puppet_master.params import ParameterError, Params
+from behaviors.puppet_master.params import ParameterError, Params, unknown_names
 from behaviors.puppet_master.resample import resample_uniform
 from behaviors.puppet_master.similarity import augmented
 from behaviors.puppet_master.table_boundary import _bearings
@@ -334,8 +334,9 @@ class Behavior:
         known = {f.name for f in fields(Params)}
         unknown = sorted(set(params) - known)
         if unknown:
-            raise ParameterError(f"unknown behaviour parameter(s) {', '.join(unknown)}; "
-                                 f"known: {', '.join(sorted(known))}")
+            raise ParameterError(f"unknown behaviour parameter(s) "
+                                 f"{unknown_names(unknown, known)}; known: "
+                                 f"{', '.join(sorted(known))}")
         p = Params(rate_hz=rate_hz, window=window, **params)
         p.check()
         return cls(_check_demo(demo, p), p)

@@ -22,6 +22,17 @@ class ParameterError(InputError):
         self.name = name
 
 
+def unknown_names(names: list[str], known: set[str]) -> str:
+    """``names`` that are no Params field, each with the field it is likely a typo of:
+    "windw (window?), wobble"."""
+    import difflib
+    out = []
+    for name in names:
+        close = difflib.get_close_matches(name, sorted(known), n=1)
+        out.append(f"{name} ({close[0]}?)" if close else name)
+    return ", ".join(out)
+
+
 # Upper bounds a value is refused beyond. A span of samples (smooth, patch, share_window) is
 # held per reactor and walked per step: smooth=10**8 took 1.7 GB and did not end within ten
 # minutes, 10**5 took 29 s of a one-minute `tabletop behave` (3: 4.4 s), 1,000 6.3 s; 10,000

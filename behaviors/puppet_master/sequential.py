@@ -160,6 +160,10 @@ class SequentialSession:
             self.phase = "done"
         return self.phase
 
+    def again(self) -> None:
+        """The reaction part was refused: ``ready`` for another, the main take kept."""
+        self.phase, self.react, self.playback = "ready", [], None
+
     def record(self, now: float, main: tuple[float, float, float] | None,
                react: tuple[float, float, float] | None) -> tuple[float, float, float] | None:
         """One frame's poses (x, y, dir; None when a puck is absent). Returns the played-back

@@ -124,7 +124,7 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     name or a value of the wrong kind raises BehaveArgumentError naming it."""
     from dataclasses import fields
 
-    from behaviors.puppet_master.params import Params
+    from behaviors.puppet_master.params import Params, unknown_names
 
     kinds = {f.name: f.type for f in fields(Params)}
     out: dict[str, float | int] = {}
@@ -134,7 +134,8 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
         if not sep or not name:
             raise BehaveArgumentError(f"--param {item!r} must be NAME=VALUE, e.g. ratio=2")
         if name not in kinds:
-            raise BehaveArgumentError(f"--param {name}: unknown parameter; known: "
+            raise BehaveArgumentError(f"--param {unknown_names([name], set(kinds))}: unknown "
+                                      "parameter; known: "
                                       f"{', '.join(sorted(kinds))}")
         integer = kinds[name] in (int, "int")
         try:
@@ -180,6 +181,49 @@ def check_metres(xy: np.ndarray, source: str, what: str) -> None:
             f"{source}: the {what} positions reach {far[0]:.4g} x {far[1]:.4g} m from the "
             f"origin, beyond any table side ({TABLE_M[1]:g} m); positions are table metres "
             "(millimetres given?)")
+
+
+def warn_still_reactor(demo: np.ndarray, source: str) -> None:
+    """One line on stderr when the demonstration's reactor never moved nor turned (as a take
+    the studio refuses: the reactor puck left lying while the main moved); the reactor
+    generated from it hardly moves (only pushed aside by its main), which was made without
+    a word."""
+    import sys
+
+    from tabletop.studio.pm_take import STILL_M, STILL_RAD, reach
+    far, turn = reach(demo, (4, 5, 6))
+    if far < STILL_M and turn < STILL_RAD:
+        print(f"tabletop behave: warning: {source}: the demonstration's reactor never moves "
+              f"({far * 100:.1f} cm from its first pose, turned {turn:.2f} rad): the reactor "
+              "generated hardly moves", file=sys.stderr)
+
+
+def warn_degrees(rows: np.ndarray, columns: dict[str, int], source: str) -> None:
+    """One stderr line per direction column of ``rows`` beyond a turn (2 pi) but within 360:
+    degrees given for radians, which trained a look turning about a radian a step (facing
+    its main 14% of the time against 100%) without a word. A direction unwrapped past a
+    turn in radians is read right; the line asks."""
+    import sys
+
+    import numpy as np
+    for name, col in columns.items():
+        far = float(np.max(np.abs(rows[:, col])))
+        if 2 * math.pi + 1e-6 < far <= 360.0 + 1e-6:
+            print(f"tabletop behave: warning: {source}: column {name!r} reaches {far:g}; "
+                  "directions are radians (degrees given?)", file=sys.stderr)
+
+
+def warn_sparse_main(rows: np.ndarray, source: str) -> None:
+    """One stderr line when the main path's samples are over a second apart (median): times
+    in milliseconds for seconds, which generated 798,668 rows for a 20 s path without a word
+    (a demonstration so given is refused as over an hour long)."""
+    import sys
+
+    import numpy as np
+    if len(rows) > 1 and float(np.median(np.diff(rows[:, 0]))) > 1.0:
+        print(f"tabletop behave: warning: {source}: the main path's samples are "
+              f"{float(np.median(np.diff(rows[:, 0]))):g} s apart (median); times are seconds "
+              "(milliseconds given?)", file=sys.stderr)
 
 
 def check_library_path(path: Path) -> None:
@@ -316,6 +360,10 @@ def main(args: argparse.Namespace) -> int:
         if table[2] <= table[0] or table[3] <= table[1]:
             raise BehaveArgumentError(
                 f"{source}: the demonstration's positions span no area; give --table W,H")
+    warn_still_reactor(demo, source)     # (once trained: an error is its one line)
+    warn_degrees(demo, {"main_dir": 3, "react_dir": 6}, source)
+    warn_degrees(main_rows, {"main_dir": 3}, args.input)
+    warn_sparse_main(main_rows, args.input)
     rows = generate(behavior, main_rows, table)
     write_csv(args.out, OUT_COLUMNS, rows.tolist())
     return 0

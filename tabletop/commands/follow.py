@@ -96,6 +96,32 @@ def still_scale(templates: dict) -> "np.ndarray":
     return MIN_SCALE_SHARE * fit_scale(list(templates.values()))[1]
 
 
+def warn_templates(templates: dict, paths: dict) -> None:
+    """One stderr line per template the follower cannot use as the designer meant, which was
+    followed without a word: one shorter than a take the studio keeps (its few samples match
+    any wiggle), and two holding the same samples (the same file under two names: each takes
+    half the probability, so neither is valid while it is performed)."""
+    import sys
+
+    import numpy as np
+
+    from behaviors.mop.takes import MIN_TAKE_SAMPLES
+    said = "tabletop follow: warning:"
+    for name, feats in templates.items():
+        if len(feats) < MIN_TAKE_SAMPLES:
+            print(f"{said} {paths[name]}: template {name!r} has {len(feats)} samples; the "
+                  f"studio keeps no take under {MIN_TAKE_SAMPLES} (so short, its start matches "
+                  "any motion)", file=sys.stderr)
+    names = list(templates)
+    for i, a in enumerate(names):
+        twin = next((b for b in names[:i] if templates[b].shape == templates[a].shape
+                     and np.array_equal(templates[b], templates[a])), None)
+        if twin is not None:
+            print(f"{said} templates {twin!r} ({paths[twin]}) and {a!r} ({paths[a]}) hold the "
+                  "same samples: the follower cannot tell them apart, and neither is valid "
+                  "while it is performed", file=sys.stderr)
+
+
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -148,6 +174,7 @@ def main(args: argparse.Namespace) -> int:
     else:
         t = np.arange(perf.shape[0], dtype=float)
 
+    warn_templates(templates, dict(pairs))
     follower = ActionFollower(templates, sigma=sigma, window=window,
                               invariance=args.invariance,
                               still_scale=still_scale(templates))

@@ -13,7 +13,7 @@ import numpy as np
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
-                            read_csv_lines, write_csv)
+                            parse_yaml, read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
 from tabletop.files import NameTaken, json_loads
 from tabletop.swap import exclusive
@@ -250,15 +250,17 @@ class ActionsFile:
     the entries of another when a keep lands between them)."""
 
     def __init__(self, folder: Path, character: str) -> None:
-        import yaml
         self.path = folder / character / LIBRARY_FILE
         self._data: Any = None
         self._error: str | None = None      # why the file cannot be read
         if not self.path.is_file():
             return
-        try:
-            self._data = yaml.safe_load(self.path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        try:   # a syntax error in one line naming its place (it printed PyYAML's four)
+            self._data = parse_yaml(self.path.read_text(encoding="utf-8"), self.path, MopError,
+                                    "cannot read the action library: YAML syntax error")
+        except MopError as exc:
+            self._error = str(exc)
+        except (OSError, UnicodeDecodeError) as exc:
             self._error = f"{self.path}: cannot read the action library: {exc}"
 
     def entries(self) -> list[dict[str, str]]:
@@ -271,13 +273,16 @@ class ActionsFile:
         data = self._data
         if data is None:
             return []
-        ok = isinstance(data, dict) and isinstance(data.get("actions"), list) and all(
-            isinstance(a, dict) and all(isinstance(a.get(k), str)
-                                        for k in ("name", "template", "motion"))
-            for a in data["actions"])
-        if not ok:
+        if not (isinstance(data, dict) and isinstance(data.get("actions"), list)):
             raise MopError(f"{self.path}: expected 'actions:' followed by a list of "
                            "{name, template, motion}")
+        for i, a in enumerate(data["actions"]):
+            why = _entry_fault(a)
+            if why:
+                named = f" ({a['name']})" if isinstance(a, dict) and isinstance(
+                    a.get("name"), str) else ""
+                raise MopError(f"{self.path}: actions[{i}]{named}: {why}; each action is "
+                               "{name, template, motion}")
         return data["actions"]
 
     def window(self) -> int | None:
@@ -292,6 +297,23 @@ class ActionsFile:
             raise MopError(f"{self.path}: window: expected a whole number of states in "
                            f"{lo}..{hi}, got {w!r}")
         return w
+
+
+def _entry_fault(entry: Any) -> str:
+    """What is wrong with one entry of an actions.yaml edited by hand, or "": the file said
+    only "expected 'actions:' followed by a list of {name, template, motion}" for a key
+    misspelt in one of them ("motoin"), leaving the designer to find which."""
+    import difflib
+    keys = ("name", "template", "motion")
+    if not isinstance(entry, dict):
+        return f"expected a mapping, got {entry!r}"
+    for k in keys:
+        if k not in entry:
+            typo = difflib.get_close_matches(k, [str(x) for x in entry if x not in keys], n=1)
+            return f"no {k!r}" + (f" ({typo[0]!r} misspelt?)" if typo else "")
+        if not isinstance(entry[k], str):
+            return f"{k!r} must be text, got {entry[k]!r}"
+    return ""
 
 
 def read_library(folder: Path, character: str) -> list[dict[str, str]]:

@@ -105,7 +105,7 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
     table's far corner that hides less of the characters drawn (``avoid``, pixels), and the
     status line along the table's near edge (nothing while it has nothing to say). Returns the
     rectangles of the marks and words (pixels), which the operator overlay keeps clear of."""
-    if not c.label:
+    if not c.label or c.action == "quiet":     # (quiet: the operator overlay's line alone)
         return []
     avoid = avoid or []
     marks: list[pygame.Rect] = []

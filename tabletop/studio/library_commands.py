@@ -112,6 +112,9 @@ class LibraryCommands:
         if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return
+        if arg == old:     # Enter on the name it has: "cannot: lib/lover: already exists"
+            self.say(f"nothing renamed: {old} is already its name")
+            return
         self._renamed(target, old, arg)
         self.undo_stack.append(Undo(f"rename {old} -> {arg}",
                                     lambda: self._renamed(target, arg, old, undo=True),

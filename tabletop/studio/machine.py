@@ -233,7 +233,13 @@ class Studio(LibraryCommands):
 
     def _refused(self, t: Try, exc: InputError) -> None:
         t.outcome = "too short" if "short" in str(exc) else "refused"
+        target = self.target
         self._finish(t)
+        part = getattr(target, "retake", lambda: "")() if target is not None else ""
+        if part:     # a take in parts keeps the parts before (a sequential take's main)
+            self._part, self.state = part, "ready"
+            self.say(f"{exc}: R records {part} again, X cancels")
+            return
         self.state = "idle"
         self.say(f"{exc}: R to record again")
 
@@ -348,6 +354,9 @@ class Studio(LibraryCommands):
             for p in problems:
                 if p not in self.problems:
                     log.error("library: %s (skipped; the others keep working)", p)
+            for p in self.problems:     # the log's story closed, as the overlay's line goes
+                if p not in problems:
+                    log.info("library: no longer said (fixed or removed): %s", p)
             self.problems = problems
 
     def character(self, frame: Frame) -> CharacterState:

@@ -1,4 +1,4 @@
-"""What a Puppet Master take tells the designer before it is trained: whether either puck
+"""What a Puppet Master take tells the designer before it is trained: whether its pucks
 moved at all (:func:`motionless`), and how long a puck the take needs went unseen while it
 was recorded (:class:`Unseen`, which a MOP take's target keeps too)."""
 
@@ -20,8 +20,9 @@ STILL_RAD = 0.2
 main is a demonstration."""
 
 
-def _reach(demo: np.ndarray, cols: tuple[int, int, int]) -> tuple[float, float]:
-    """How far (metres) and how much (radians) one puck of ``demo`` got from its first pose."""
+def reach(demo: np.ndarray, cols: tuple[int, int, int]) -> tuple[float, float]:
+    """How far (metres) and how much (radians) one puck of ``demo`` (columns ``cols``: x, y,
+    direction) got from its first pose."""
     x, y, a = (demo[:, c] for c in cols)
     far = float(np.max(np.hypot(x - x[0], y - y[0])))
     turn = float(np.max(np.abs(np.angle(np.exp(1j * (a - a[0]))))))
@@ -30,13 +31,20 @@ def _reach(demo: np.ndarray, cols: tuple[int, int, int]) -> tuple[float, float]:
 
 def motionless(demo: np.ndarray, main_puck: int, react_puck: int) -> None:
     """InputError when neither puck of ``demo`` (n, 7: t, main x y dir, react x y dir) moved
-    or turned: such a take trains a character that stands still whatever the visitor does."""
+    or turned, or the reactor's did not while the main moved (the reactor puck forgotten on
+    the table): either take trains a character that stands still whatever the visitor does.
+    A still main with a reactor walking off is a demonstration."""
     if len(demo) == 0:
         return
-    main, react = _reach(demo, (1, 2, 3)), _reach(demo, (4, 5, 6))
-    if all(far < STILL_M and turn < STILL_RAD for far, turn in (main, react)):
+    main, react = reach(demo, (1, 2, 3)), reach(demo, (4, 5, 6))
+    still = [far < STILL_M and turn < STILL_RAD for far, turn in (main, react)]
+    if all(still):
         raise InputError(f"neither puck moved (puck {main_puck} {main[0] * 100:.1f} cm, puck "
                          f"{react_puck} {react[0] * 100:.1f} cm from where the take began)")
+    if still[1]:
+        raise InputError(f"the reactor, puck {react_puck}, never moved ({react[0] * 100:.1f} "
+                         f"cm from where the take began, turned {react[1]:.2f} rad): its "
+                         "character would stand still")
 
 
 class Unseen:

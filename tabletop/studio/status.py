@@ -12,11 +12,16 @@ from tabletop.frames import CharacterState, Frame
 def indicator(studio: Any, frame: Frame) -> CharacterState:
     """The indicator of ``studio`` (a :class:`~tabletop.studio.machine.Studio`, which imports
     this module): ``action`` = state, ``progress`` = countdown left (s) or recorded seconds,
-    ``label`` = status line."""
+    ``label`` = status line; ``action`` "quiet": a line for the operator overlay alone (the
+    studio draws nothing until a designer key)."""
     target = studio.target
     if studio.quiet:
+        # nothing on the table until a designer key; a library file gone bad (edited by hand)
+        # is on the operator overlay all the same: it was in the log alone
+        said = (f"{len(studio.problems)} bad library file(s): {studio.problems[0]}"
+                if studio.problems else "")
         return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
-                              action="idle", label="")
+                              action="quiet" if said else "idle", label=said)
     points = None
     if studio.state == "countdown":
         value: float | None = max(0.0, studio.until - frame.t)

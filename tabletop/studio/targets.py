@@ -14,6 +14,7 @@ Library folders are renamed in place and deleted into ``<library>/.trash`` so un
 
 from __future__ import annotations
 
+import copy
 import logging
 import math
 from pathlib import Path
@@ -66,6 +67,7 @@ class PuppetMasterTarget(BehaviorShelf):
         self.sequential = bool(d.get("sequential", False))
         self.session = SequentialSession()
         self.unseen = Unseen()      # how long a needed puck was missing from the take
+        self._unseen_main = Unseen()    # as it was when the reaction part began
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
         self.react_at: tuple[float, float, float] | None = None   # the reactor puck's last
                                                                    # pose in this take
@@ -128,7 +130,20 @@ class PuppetMasterTarget(BehaviorShelf):
         """The reaction part: the main take plays back from now."""
         if self.sequential and self.session.phase == "ready":
             self.unseen.pause()
+            self._unseen_main = copy.deepcopy(self.unseen)
             self.session.toggle(frame.t)
+
+    def retake(self) -> str:
+        """After a refused take, the part recorded again alone, or "": a sequential take's
+        reaction (too short, its puck unseen or never moved), its main take kept and its ghost
+        back at the first pose. The designer redid the main part too."""
+        s = self.session
+        if not self.sequential or s.phase != "done" or len(s.main) < 2:
+            return ""
+        s.again()
+        self.unseen = copy.deepcopy(self._unseen_main)
+        self.ghost, self.engine.hold = tuple(s.main[0][1:]), self._hold
+        return f"{self.REACTION} ({s.main[-1][0] - s.main[0][0]:.1f} s)"
 
     def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
         """While recording the character is drawn under the reactor puck; while the puck is

@@ -209,3 +209,23 @@ def test_a_template_of_a_thousandth_of_the_others_leaves_them_valid_at_any_size(
                     "--out", str(out), "--invariance", "scale"]) == 0
         valid.append(sum(r["valid"] == "1" and r["best"] == "circle" for r in _read(out)[1]))
     assert valid[0] > 30 and valid[1] >= valid[0] - 2, valid
+
+
+def test_a_template_twice_under_two_names_or_too_short_is_said(files, capsys):
+    """The same file given under two names was followed without a word, and neither was ever
+    valid while it was performed; a three-sample template too (its start matches anything)."""
+    d, truth = files
+    circle = (d / "circle.csv").read_text()
+    (d / "copy.csv").write_text(circle)
+    (d / "tiny.csv").write_text("\n".join(circle.splitlines()[:4]) + "\n")
+    assert cli(_args(d, "--template", f"copy={d / 'copy.csv'}")) == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "warning: templates 'circle' (" in err \
+        and "and 'copy' (" in err and "cannot tell them apart" in err, err
+    _, rows = _read(d / "out.csv")
+    assert not any(r["valid"] == "1" for r in rows)        # what the line warns of
+    assert cli(_args(d, "--template", f"tiny={d / 'tiny.csv'}")) == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "tiny.csv: template 'tiny' has 3 samples" in err, err
+    assert cli(_args(d)) == 0
+    assert capsys.readouterr().err == ""

@@ -158,6 +158,7 @@ def test_the_help_names_every_parameter():
 
 @pytest.mark.parametrize("param, words", [
     ("bogus=1", ["--param bogus", "unknown parameter", "ratio"]),
+    ("smoth=5", ["--param smoth (smooth?): unknown parameter"]),     # a typo: the likely name
     ("window=4.5", ["--param window", "integer"]),
     ("ratio=fast", ["--param ratio", "number"]),
     ("ratio", ["--param 'ratio'", "NAME=VALUE"]),
@@ -297,3 +298,70 @@ def test_positions_in_mm_that_barely_move_are_refused_naming_the_file(files, tmp
     assert not (tmp_path / "o.csv").exists()
     assert behave("--train", d / "demo.csv", "--input", tmp_path / "main.csv",
                   "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+
+
+def test_a_demonstration_whose_reactor_never_moves_is_said(files, tmp_path, capsys):
+    # the reactor puck left lying (a millimetre of jitter) while the main moved: the reactor
+    # generated stands still, which was written without a word
+    d, _ = files
+    demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
+    demo[:, 4:7] = demo[0, 4:7]
+    demo[::2, 4] += 0.001
+    write_csv(tmp_path / "still.csv", DEMO_HEADER, demo.tolist())
+    assert behave("--train", tmp_path / "still.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and ("still.csv: the demonstration's reactor never moves (0.1 cm "
+                                     "from its first pose, turned 0.00 rad)") in err, err
+    _, still = read_csv(tmp_path / "o.csv")
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    assert capsys.readouterr().err == ""
+    _, moving = read_csv(tmp_path / "o.csv")
+    path = [float(np.hypot(*np.diff(o[:, 1:3], axis=0).T).sum()) for o in (still, moving)]
+    assert path[0] < 0.2 * path[1], path     # it hardly moves (pushed aside by its main)
+
+
+def test_directions_in_degrees_are_said(files, tmp_path, capsys):
+    # a demonstration and a main path with their directions in degrees trained a look that
+    # turned about a radian a step, without a word
+    d, main = files
+    demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
+    demo[:, [3, 6]] = np.degrees(demo[:, [3, 6]])
+    write_csv(tmp_path / "deg.csv", DEMO_HEADER, demo.tolist())
+    deg = main.copy()
+    deg[:, 3] = np.degrees(deg[:, 3])
+    write_csv(tmp_path / "main_deg.csv", MAIN_HEADER, deg.tolist())
+    assert behave("--train", tmp_path / "deg.csv", "--input", tmp_path / "main_deg.csv",
+                  "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 3, err
+    assert "deg.csv: column 'main_dir' reaches " in err[0] and "(degrees given?)" in err[0]
+    assert "deg.csv: column 'react_dir' reaches " in err[1]
+    assert "main_deg.csv: column 'main_dir' reaches " in err[2]
+    _, out = read_csv(tmp_path / "o.csv")
+    look = np.abs(np.angle(np.exp(1j * np.diff(out[:, 3]))))
+    assert float(np.mean(look)) > 0.3, float(np.mean(look))     # what the lines warn of
+    unwrapped = main.copy()   # radians unwrapped past a turn are read right: the line only asks
+    unwrapped[:, 3] = np.unwrap(unwrapped[:, 3]) + 2 * np.pi
+    assert float(np.abs(unwrapped[:, 3]).max()) > 2 * np.pi + 1e-6
+    write_csv(tmp_path / "main_unwrapped.csv", MAIN_HEADER, unwrapped.tolist())
+    assert behave("--train", d / "demo.csv", "--input", tmp_path / "main_unwrapped.csv",
+                  "--out", tmp_path / "o.csv") == 0
+    said = capsys.readouterr().err
+    assert "main_unwrapped.csv: column 'main_dir' reaches" in said and said.count("\n") == 1
+
+
+def test_a_main_path_timed_in_milliseconds_is_said(files, tmp_path, capsys):
+    # a 20 s main path in milliseconds generated 798,668 rows without a word
+    d, main = files
+    ms = main[:7].copy()                            # 0.2 s at 30 Hz, in milliseconds: 200 s
+    ms[:, 0] = (ms[:, 0] - ms[0, 0]) * 1000.0
+    write_csv(tmp_path / "main_ms.csv", MAIN_HEADER, ms.tolist())
+    assert behave("--train", d / "demo.csv", "--input", tmp_path / "main_ms.csv", "--out",
+                  tmp_path / "o.csv") == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "main_ms.csv: the main path's samples are 33.3333 s apart " \
+        "(median); times are seconds (milliseconds given?)" in err, err
+    _, out = read_csv(tmp_path / "o.csv")
+    assert len(out) == 8001                       # what the line warns of: 200 s at 40 Hz

@@ -48,6 +48,8 @@ def test_bad_demonstrations_get_clear_messages(demo, mutate, words):
 def test_bad_parameters_get_clear_messages(demo):
     with pytest.raises(ParameterError, match="unknown behaviour parameter.*wobble"):
         Behavior.train(demo, wobble=1)
+    with pytest.raises(ParameterError, match=r"parameter\(s\) windw \(window\?\), wobble;"):
+        Behavior.train(demo, windw=40, wobble=1)     # a behavior.yaml edited by hand
     with pytest.raises(ParameterError, match="window"):
         Behavior.train(demo, window=0)
     with pytest.raises(ParameterError, match="rate_hz"):

@@ -117,6 +117,33 @@ def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_ar
     circle = engine.templates["face"]["circle"][1]
     assert len(circle) == len(G.gesture("circle"))     # the configured template, not c.csv
 
+@pytest.mark.parametrize("text, said", [
+    # a key misspelt in one entry said only "expected 'actions:' followed by a list of
+    # {name, template, motion}", the designer left to find which entry and key
+    ("- {name: a, template: a.csv, motion: laugh}\n- {name: b, template: a.csv, motoin: wink}\n",
+     "actions.yaml: actions[1] (b): no 'motion' ('motoin' misspelt?); each action is {name, "
+     "template, motion}"),
+    ("- {name: a, template: a.csv, motion: 3}\n",
+     "actions.yaml: actions[0] (a): 'motion' must be text, got 3"),
+    ("- a.csv\n", "actions.yaml: actions[0]: expected a mapping, got 'a.csv'"),
+    # PyYAML's four lines (its message, the line quoted, a caret) in one line with its place
+    ("- name: a\n  template: a.csv\n  motion laugh: x: y\n",
+     "actions.yaml: cannot read the action library: YAML syntax error at line 4, column 18: "
+     "mapping values "),
+    ("- name: a\n  template: a.csv\n  motion: laugh\n  motion: wink\n",
+     "YAML syntax error at line 5, column 3: key 'motion' is given twice"),
+])
+def test_a_library_file_edited_by_hand_names_the_entry_and_key(tmp_path, text, said):
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    (lib / "face" / "a.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "actions.yaml").write_text("actions:\n" + text)
+    engine = build(designer_config(tmp_path), tmp_path)
+    (problem,) = engine.library_problems["face"]
+    assert said in problem and "\n" not in problem, problem
+    assert set(engine.puppets["face"].actions) == {"circle"}     # the config's, started
+
+
 def test_a_library_entry_that_fails_to_load_does_not_claim_its_name(tmp_path):
     """Two entries named wave, the first's template damaged and the second a fixed copy: the
     first is reported and the second loads (it was refused as "named twice; the first is

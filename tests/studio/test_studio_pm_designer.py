@@ -123,9 +123,20 @@ def test_a_reaction_part_without_its_puck_says_which_puck_was_missing(tmp_path):
                                 commands=("designer.record",) if i == 0 else ()))[1]
                for i, row in enumerate(demo)]
     assert studios[0].action == "recording" and "no puck 2" in studios[0].label
-    assert studios[-1].action == "idle"
-    assert "no reaction recorded: puck 2 was not seen during the main's playback" in \
+    # the main take is kept: only the reaction is recorded again (it was redone with the main)
+    assert studios[-1].action == "ready"
+    assert "no reaction recorded: puck 2 was not seen during the main's playback: R records " \
+        "the reaction against the main's playback (5.9 s) again, X cancels" in \
         studios[-1].label, studios[-1].label
+    chars, _ = bench.step(Frame(seq=2900, t=229.0))
+    assert np.allclose([chars["pet.main"].x, chars["pet.main"].y], demo[0, 1:3])  # the ghost
+    _, studios = sequential_takes(bench, demo, 240.0, 3000, "react")
+    said = next(s.label for s in studios if "trained" in s.label)
+    assert "unseen" not in said, said          # the refused part's missing puck is not counted
+    bench.step(Frame(seq=4000, t=250.0, commands=("designer.keep",)))
+    assert library.list_behaviors(tmp_path / "lib") == ["pet"]
+    log = [json.loads(x)["outcome"] for x in bench.session.path.read_text().splitlines()]
+    assert log == ["refused", "kept"], log
 
 
 def test_a_new_take_keeps_the_character_s_parameters_and_is_kept_as_tried(tmp_path):

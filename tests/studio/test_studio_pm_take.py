@@ -1,5 +1,6 @@
 """What a Puppet Master take recorded at the table tells the designer: a take where neither
-puck moved is refused (it trained a character that stands still, and K kept it), and a take
+puck moved, or the reactor's did not, is refused (it trained a character that stands still,
+and K kept it), and a take
 whose reactor puck was lost part of the time says how long (those stretches are left out)."""
 
 import json
@@ -47,6 +48,23 @@ def test_a_take_where_neither_puck_moved_is_refused_and_one_puck_moving_is_train
     reactor[:, 1:4] = demo[0, 1:4]
     labels, bench = take(tmp_path / "c", reactor)
     assert "trained" in labels[-5] and library.list_behaviors(tmp_path / "c" / "lib") == ["pet"]
+
+
+def test_a_take_whose_reactor_puck_was_left_still_is_refused(tmp_path):
+    # the main walks, the reactor puck lies where it was put down (a millimetre of jitter):
+    # the character trained would stand still whatever the visitor does
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    forgotten = demo.copy()
+    forgotten[:, 4:7] = demo[0, 4:7]
+    forgotten[:, 4] += 0.001 * (-1) ** (forgotten[:, 0] * 40).astype(int)
+    labels, bench = take(tmp_path / "a", forgotten)
+    assert ("the reactor, puck 2, never moved (0.2 cm from where the take began, turned 0.00 "
+            "rad): its character would stand still: R to record again") in labels[-5], labels[-5]
+    assert library.list_behaviors(tmp_path / "a" / "lib") == []
+    # the same take with the reactor moving 3 cm is a demonstration
+    forgotten[:, 4] += 0.03 * forgotten[:, 0] / forgotten[-1, 0]
+    labels, _ = take(tmp_path / "b", forgotten)
+    assert "trained" in labels[-5], labels[-5]
 
 
 def test_a_take_whose_reactor_was_lost_half_the_time_says_how_long(tmp_path):

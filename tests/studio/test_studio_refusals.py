@@ -199,3 +199,66 @@ def test_previous_from_the_configs_behaviour_plays_the_last_kept_one(tmp_path):
     assert bench.studio.message == "playing c (3 of 3)" and e.behavior_name == "c"
     bench.studio.command("designer.item_previous")
     assert bench.studio.message == "playing b (2 of 3)"
+
+
+def test_renaming_an_item_to_the_name_it_has_says_so(tmp_path):
+    """F2 and Enter on the name shown (lover) said "cannot: LIB/lover: already exists", as if
+    another behaviour held the name; nothing is renamed and the session log has no line."""
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "lover", designers.demonstrate("lover", seconds=3), {})
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")
+    bench.studio.command("designer.rename:lover=lover")
+    assert bench.studio.message == "nothing renamed: lover is already its name", \
+        bench.studio.message
+    assert library.list_behaviors(lib) == ["lover"] and not bench.session.path.exists()
+    bench.studio.command("designer.rename:lover=shy")
+    assert library.list_behaviors(lib) == ["shy"]
+
+
+def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tmp_path, caplog,
+                                                                           pygame_display):
+    """A behaviour file edited by hand into a typo while a designer engine ran outside studio
+    mode was said in the log alone: the studio draws nothing until a designer key, so the
+    operator overlay had no line for it. It has one now, and the table still shows nothing."""
+    import pygame
+
+    from tabletop.renderer import Renderer
+    from tabletop.studio.draw import draw_studio
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+    from tabletop.view import overlay_lines
+
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "lover", designers.demonstrate("lover", seconds=3),
+                          {"rate_hz": 40.0})
+    (e,) = build([{"kind": "puppet_master", "name": "a", "designer": {
+        "enabled": True, "library": str(lib)}}])
+    target = PuppetMasterTarget(e)
+    target.lib_poller.every_s = 0.0             # looks at every call (the loop: once a second)
+    studio = Studio([target], countdown_s=0.0, quiet=True)
+    studio.poll()
+    good = studio(Frame(seq=0, t=1.0)).character("studio")
+    assert good.label == "" and good.action == "idle"
+    yaml = lib / "lover" / library.BEHAVIOR_FILE
+    text = yaml.read_text()
+    assert "rate_hz: 40.0\n" in text
+    yaml.write_text(text.replace("rate_hz: 40.0", "rate_hz: 40.0x"))
+    studio.poll()
+    f = studio(Frame(seq=1, t=1.1))
+    c = f.character("studio")
+    assert c.action == "quiet", c
+    line = next(x for x in overlay_lines(f, None) if x.startswith("studio: "))
+    assert line.startswith("studio: 1 bad library file(s): ") and "lover" in line \
+        and "rate_hz: expected a number, got '40.0x'" in line, line
+    renderer = Renderer(TABLE, (640, 360))
+    surface = pygame.Surface((640, 360))
+    assert draw_studio(surface, renderer, c) == []           # nothing drawn on the table
+    assert pygame.transform.average_color(surface)[:3] == (0, 0, 0)
+    yaml.write_text(text)                                     # fixed on disk: gone
+    with caplog.at_level("INFO", logger="tabletop"):
+        studio.poll()
+    assert studio(Frame(seq=2, t=1.2)).character("studio").label == ""
+    said = [r.getMessage() for r in caplog.records if "no longer said" in r.getMessage()]
+    assert len(said) == 1 and "rate_hz: expected a number" in said[0], said
