@@ -195,12 +195,12 @@ def _check_parameter_names(parameters: Mapping[str, Any], path: Path) -> None:
     behavior.yaml (training named the folder only)."""
     from dataclasses import fields
 
-    from behaviors.puppet_master.params import Params
+    from behaviors.puppet_master.params import Params, unknown_names
     known = sorted(f.name for f in fields(Params))
     for name in parameters:
         if name not in known:
-            raise LibraryError(f"{path}: parameters.{name}: unknown parameter (known: "
-                               f"{', '.join(known)})")
+            raise LibraryError(f"{path}: parameters.{unknown_names([name], set(known))}: "
+                               f"unknown parameter (known: {', '.join(known)})")
 
 
 def _data_file(folder: Path, value: str | Path, key: str) -> Path:

@@ -78,7 +78,8 @@ def test_replace_writes_the_new_take(tmp_path, demo):
     ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {ratio: 2e1}\n",
      ["parameters.ratio: expected a number, got '2e1'", "as text", "write 2.0e+1"]),
     ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {windw: 40}\n",
-     ["behavior.yaml: parameters.windw: unknown parameter (known: balance_gain, ", " window)"]),
+     ["behavior.yaml: parameters.windw (window?): unknown parameter (known: balance_gain, ",
+      " window)"]),
     ("- just\n- a list\n", ["expected a mapping"]),
     ("\x00\x01garbage", ["behavior.yaml"]),
 ])
@@ -99,8 +100,9 @@ def test_corrupt_description_is_refused_and_kept_byte_identical(tmp_path, demo, 
     assert [p.name for p in tmp_path.iterdir() if not p.name.endswith(swap.LOCK_SUFFIX)] == ["x"]
 
 
-@pytest.mark.parametrize("line, said", [("  windw: 40", "windw: unknown parameter (known: "),
-                                         ("  window: 1", "window: 1 must be an integer >= 2")])
+@pytest.mark.parametrize("line, said", [
+    ("  windw: 40", "windw (window?): unknown parameter (known: "),
+    ("  window: 1", "window: 1 must be an integer >= 2")])
 def test_a_parameter_of_a_configured_behaviour_is_named_at_its_key(tmp_path, capfd, line, said):
     """A typo or a value training refuses in behavior.yaml's parameters: named at
     ``behavior.yaml: parameters.NAME`` (it named the behaviour's folder)."""
