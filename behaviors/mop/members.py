@@ -20,7 +20,8 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, member_validity, shape_lead, spotting, validity
+from behaviors.mop import (handover, member_validity, overrun, path_kernel, shape_lead, spotting,
+                           take_fit, validity)
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
@@ -29,8 +30,10 @@ from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORW
                                     REST_BEHIND)
 from behaviors.kernel_cache import compiled
 
-# the files whose constants the kernels take in
-_CALLS_INTO = (handover, member_validity, shape_lead, spotting, validity)
+# the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
+# and take_fit's through member_validity's)
+_CALLS_INTO = (handover, member_validity, overrun, path_kernel, shape_lead, spotting, take_fit,
+               validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
