@@ -47,12 +47,19 @@ MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group
 	from behaviors.mop.follower import ActionFollower; \
 	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
 	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]
+# (with the Puppet Master's, the benchmarks' path alignment, bench.motions.aligned_gap, that the
+# MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each)
+PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
+	behaviors.puppet_master.step_kernel, bench.motions; \
+	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2)))
 BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
-	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
+	$(PY) -c "$(PM_AND_BENCH)" & pm=$$!; \
 	$(PY) -c "$(MOP_STEPS)" && wait $$view && wait $$pm && touch $(KERNELS)
 # (make decides before the install runs: the test skips a build the install has just made)
-$(KERNELS): $(wildcard behaviors/kernel_cache.py tabletop/drawing/*.py behaviors/mop/*.py behaviors/puppet_master/*.py) | $(STAMP)
+KERNEL_SOURCES = behaviors/kernel_cache.py tabletop/drawing/*.py behaviors/mop/*.py \
+	behaviors/puppet_master/*.py bench/motions.py
+$(KERNELS): $(wildcard $(KERNEL_SOURCES)) | $(STAMP)
 	@test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" \
 	  || { echo "building the compiled kernels"; $(BUILD_KERNELS); }
 

@@ -23,7 +23,7 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import (coverage, group_layout, group_steps, holding, invariance, members,
-                           shape_lead, threshold, threshold_kernel, validity)
+                           path_kernel, shape_lead, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, MC_ROWS
@@ -33,13 +33,14 @@ from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
+from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, coverage, group_layout, group_steps, holding, invariance,
-               members, shape_lead, threshold, threshold_kernel, validity)
+               members, path_kernel, shape_lead, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -297,51 +298,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             thr_z[k, d] = 2.0 * (t[uf0] + t[co0]) - z[0]
             gf = int(math.floor(g))
             last = start + lk - 1
-            best_d = np.inf
-            for o in range(-before, after + 1):
-                j = min(max(gf + o, start), last)
-                # a puck's two features: the loops over them written out (the same operations;
-                # update_templates on its real arguments 605 -> 569, 624 -> 569, 588 -> 538 us
-                # median, interleaved, load 22)
-                if d == 2:
-                    ja, jb = j + off, min(j + 1, last) + off
-                    sa0, sa1, sb0, sb1 = means[0, ja], means[1, ja], means[0, jb], means[1, jb]
-                    ab0 = sb0 - sa0
-                    ab1 = sb1 - sa1
-                    za = 0.0
-                    ab2 = 0.0
-                    za += (z[0] - sa0) * ab0
-                    ab2 += ab0 * ab0
-                    za += (z[1] - sa1) * ab1
-                    ab2 += ab1 * ab1
-                    tt = min(max(za * (1.0 / max(ab2, 1e-12)), 0.0), 1.0)
-                    dd = 0.0
-                    e = (z[0] - sa0) - tt * (sb0 - sa0)
-                    dd += e * e
-                    e = (z[1] - sa1) - tt * (sb1 - sa1)
-                    dd += e * e
-                    if dd < best_d:
-                        best_d = dd
-                        v[0] = sa0 + tt * (sb0 - sa0)
-                        v[1] = sa1 + tt * (sb1 - sa1)
-                    continue
-                ja = j + off
-                jb = min(j + 1, last) + off   # a template's last state has no segment
-                za = 0.0
-                ab2 = 0.0
-                for c in range(d):
-                    ab = means[c, jb] - means[c, ja]
-                    za += (z[c] - means[c, ja]) * ab
-                    ab2 += ab * ab
-                tt = min(max(za * (1.0 / max(ab2, 1e-12)), 0.0), 1.0)
-                dd = 0.0
-                for c in range(d):
-                    e = (z[c] - means[c, ja]) - tt * (means[c, jb] - means[c, ja])
-                    dd += e * e
-                if dd < best_d:
-                    best_d = dd
-                    for c in range(d):
-                        v[c] = means[c, ja] + tt * (means[c, jb] - means[c, ja])
+            nearest_on_path(means, start, last, off, g, z, v, before, after)
             uu = 0.0
             uv = 0.0
             vv = 0.0

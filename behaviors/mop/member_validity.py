@@ -17,15 +17,16 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, overrun, shape_lead, take_fit, validity
+from behaviors.mop import handover, overrun, path_kernel, shape_lead, take_fit, validity
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
 from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
 from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
-# the files whose compiled functions or constants the kernels take in
-_CALLS_INTO = (handover, overrun, shape_lead, take_fit, validity)
+# the files whose compiled functions or constants the kernels take in (path_kernel's through
+# overrun's)
+_CALLS_INTO = (handover, overrun, path_kernel, shape_lead, take_fit, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]

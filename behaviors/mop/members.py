@@ -20,17 +20,21 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, member_validity, shape_lead, spotting, validity
+from behaviors.mop import (gesture_end, handover, member_validity, overrun, path_kernel,
+                           shape_lead, spotting, take_fit, validity)
+from behaviors.mop.gesture_end import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
+                                       RETURN_RADIUS)
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
-from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
-                                   RETURN_RADIUS, SHARE_BACK)
+from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
                                     REST_BEHIND)
 from behaviors.kernel_cache import compiled
 
-# the files whose constants the kernels take in
-_CALLS_INTO = (handover, member_validity, shape_lead, spotting, validity)
+# the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
+# and take_fit's through member_validity's)
+_CALLS_INTO = (gesture_end, handover, member_validity, overrun, path_kernel, shape_lead, spotting,
+               take_fit, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -92,7 +96,7 @@ def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.n
 
 @compiled(numba.intp(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
 def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> int:
-    """:func:`behaviors.mop.spotting.arrived` over member ``i``'s buffered samples (the last the
+    """:func:`behaviors.mop.gesture_end.arrived` over member ``i``'s buffered samples (the last the
     newest): how many before the last lie, with it, within ``ARRIVE_RADIUS radius`` (D,) per
     column (range), at most ``END_GRACE``."""
     s = buf.shape[1]
@@ -356,7 +360,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         # a new best confirms on samples of its own (recognition: the run does not carry over)
         run[i] = run[i] + 1 if ok and run_k[i] == bi else (1 if ok else 0)
         run_k[i] = bi
-        # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
+        # an action that reached its end drives at most END_GRACE samples more (gesture_end.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
         val = run[i] >= m[3] and after_end[i] <= END_GRACE
         # shown valid only while the input does not overrun its path (member_validity.overruns);

@@ -99,13 +99,11 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 from behaviors.kernel_cache import compiled
-
-#: States before and after the followed state whose joining segments make up the path the
-#: input is measured against (the followed state lags or leads a fast performer by a few; the
-#: refusal's and the validity's path too).
-PATH_REACH = (3, 3)
+from behaviors.mop import path_kernel
+from behaviors.mop.path_kernel import PATH_REACH, nearest_on_path
 
 #: Samples back over which the action's progress is weighed against the input's travel ...
 PACE_SAMPLES = 6
@@ -128,35 +126,19 @@ _FA1, _FA2 = numba.float64[:], numba.float64[:, :]
 
 
 @compiled(numba.float64(_FA2, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1, _FA1,
-                        _FA1, numba.float64, numba.float64, numba.float64))
+                        _FA1, numba.float64, numba.float64, numba.float64), path_kernel)
 def off_path2(means, lo, n, off, scale, uf, co, x, anchor, g, size, path_scale) -> float:
     """The squared distance (sigma squared, mean per column) of sample ``x`` seen from
     ``anchor`` (``(x - anchor) / scale + uf``, read at ``size`` and offset by ``co``: the
     template's mapping) from the template's path (its states ``lo`` .. ``lo + n - 1``, rows
-    ``off`` on in ``means``) within :data:`PATH_REACH` states of the
-    followed state ``g`` (from the template's first; ``path_scale``: sigma^2 times the
-    columns)."""
-    d = x.size
-    last = lo + n - 1
-    c0 = int(math.floor(lo + g))
-    best = math.inf
-    for o in range(-PATH_REACH[0], PATH_REACH[1] + 1):
-        ja = min(max(c0 + o, lo), last)
-        jb = min(ja + 1, last)
-        za = 0.0
-        ab2 = 0.0
-        for c in range(d):
-            z = ((x[c] - anchor[c]) / scale[c] + uf[c]) / size + co[c]
-            ab = means[jb + off, c] - means[ja + off, c]
-            za += (z - means[ja + off, c]) * ab
-            ab2 += ab * ab
-        t = min(max(za / max(ab2, 1e-12), 0.0), 1.0)
-        dd = 0.0
-        for c in range(d):
-            z = ((x[c] - anchor[c]) / scale[c] + uf[c]) / size + co[c]
-            e = z - means[ja + off, c] - t * (means[jb + off, c] - means[ja + off, c])
-            dd += e * e
-        best = min(best, dd)
+    ``off`` on in ``means``) within :data:`PATH_REACH` states of the followed state ``g``
+    (from the template's first; ``path_scale``: sigma^2 times the columns):
+    :func:`behaviors.mop.path_kernel.nearest_on_path`."""
+    z = np.empty(x.size)
+    for c in range(x.size):
+        z[c] = ((x[c] - anchor[c]) / scale[c] + uf[c]) / size + co[c]
+    best = nearest_on_path(means.T, lo, lo + n - 1, off, lo + g, z, np.empty(x.size),
+                           PATH_REACH[0], PATH_REACH[1])
     return best / path_scale
 
 
@@ -170,7 +152,7 @@ def arc_at(arc, lo, n, off, g) -> float:
 
 @compiled(numba.boolean(_FA2, _FA1, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1,
                         _FA1, _FA1, _FA1, _FA1, numba.float64, numba.float64, numba.float64,
-                        numba.float64, numba.float64, numba.float64, numba.float64))
+                        numba.float64, numba.float64, numba.float64, numba.float64), path_kernel)
 def overruns(means, arc, lo, n, off, scale, uf, co, anchor, x, x_rise, x_pace, g, g_rise, g_pace,
              size, size_pace, path_scale, dims) -> bool:
     """Whether the input ``x`` departs from the template's path (see the module docstring):

@@ -61,9 +61,9 @@ import math
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
-from behaviors.mop.spotting import drives
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, resting,
                                     rests_behind, stalls, still_unbegun, unbegun, unjudged,

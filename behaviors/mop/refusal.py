@@ -245,8 +245,9 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop import coverage, threshold
+from behaviors.mop.path_kernel import nearest_on_paths
 from behaviors.mop.spotting import SHARE_SIZES
-from behaviors.mop.validity import PATH_REACH, unjudged
+from behaviors.mop.validity import unjudged
 
 
 def path_lengths(bank) -> np.ndarray:
@@ -285,12 +286,7 @@ class Refusal:
         """Constants and per-template state of the shape rules (after the bank is built)."""
         b = self.bank
         self._arc = path_lengths(b)
-        # each state's segment to the next (none from a template's last state), 1 / its length^2
-        seg = np.diff(b.means, axis=0, append=b.means[-1:])
-        seg[b.starts + b.lengths - 1] = 0.0
-        self._seg = seg
-        self._seg_inv = 1.0 / np.maximum((seg * seg).sum(axis=1), 1e-12)
-        self._reach = np.arange(-PATH_REACH[0], PATH_REACH[1] + 1)[None, :]
+        self._means_t = np.ascontiguousarray(b.means.T)   # (D, S): nearest_on_paths' layout
         ends = b.starts + b.lengths - 1
         self._arc_need = self.coverage * self._arc[ends]
         self._arc_full = self._arc_need.copy()
@@ -346,20 +342,11 @@ class Refusal:
     def _nearest_on_path(self, z: np.ndarray, g: np.ndarray) -> np.ndarray:
         """The point (K, d) of each template's path nearest to z (K, d) among the segments
         joining the states within :data:`~behaviors.mop.validity.PATH_REACH` of its followed
-        state ``g`` (bank index)."""
+        state ``g`` (bank index): :func:`behaviors.mop.path_kernel.nearest_on_paths`."""
         b = self.bank
-        before, after = PATH_REACH
-        c = np.floor(g).astype(np.intp)
-        # segments start at these states (clipped: a repeated segment changes no minimum)
-        idx = np.clip(c[:, None] + self._reach, b.starts[:, None],
-                      (b.starts + b.lengths - 1)[:, None])
-        a, ab = b.means[idx], self._seg[idx]                         # (K, m, d)
-        az = z[:, None, :] - a
-        t = np.clip((az * ab).sum(axis=2) * self._seg_inv[idx], 0.0, 1.0)
-        off = az - t[..., None] * ab
-        j = np.argmin((off * off).sum(axis=2), axis=1)
-        rows = np.arange(len(j))
-        return a[rows, j] + t[rows, j, None] * ab[rows, j]
+        out = np.empty_like(z)
+        nearest_on_paths(self._means_t, b.starts, b.lengths, z, g, out)
+        return out
 
     def _judge_shape(self, x: np.ndarray, g: np.ndarray, new: np.ndarray, rests: bool) -> None:
         """After a sample: each template's path misfit (forgotten over ``shape_memory``

@@ -19,12 +19,6 @@ sized, holds, pauses, back to back unchanged, after a gesture 0.0718 -> 0.0684, 
 0.0131 -> 0.0137 / 0.0151 -> 0.0160 (spiral, circle alone 0.004 -> 0.030), a gesture right
 after an unrelated motion recognised among six 0.37 -> 0.25 (60 draws): kept.
 
-Measured back to back (``bench/follow_quality.py``) when an ended action stopped driving only
-once the input left by ``accept_distance`` and now (stops as soon as it moves on): among the
-six gestures the median longest run of a wrong action driving 13 -> 11.5 samples, median
-recognition at 24% -> 24%; among twenty templates gestures never recognised 16% -> 3% (held-out
-joints: 16% -> 9%, median recognition 35% -> 25%).
-
 An unrelated stroke straight after a gesture (``bench/follow_after.py``) is refused as it is from
 rest: nothing of the gesture just ended carries over into it. Its 72 tuned performances replayed
 with the gesture replaced by 0.5 s still at its last point (the same stroke samples, counted as the
@@ -82,77 +76,6 @@ unrelated stroke right after a gesture valid 0.0730 -> 0.0761 of its ticks (ever
 gets the head start); started so also while the input was still coming closer to the last
 point, progress RMSE p90 at 0.7-1.4x 0.0405 -> 0.0423 (a fast-ending crawl wrist's 0.019 ->
 0.144: the performer was still finishing it).
-
-Why an ended action stops driving two samples after its end and not when the input moves on:
-every gesture starts eased (within 2 mm of its start for its first 4-7 samples, under the
-tracking jitter), so the next gesture cannot be told from resting at the end, and the ended
-action drove 3-19 ticks into it (``bench/follow_quality.py``, the six gestures back to back:
-longest such run 16, held-out 19; twenty templates 10, 19). The follower's own progress reaches
-``end`` 0-5 samples before the performer reaches the last point (it leads on eased ends, lags on
-fast ones). Partial runs of the bench's sections (sizes: valid after 30% of gestures at
-0.7-1.4x, 0.908 before): no sample after the end 0.882 (the last 3% of each gesture lost),
-two 0.901, four 0.906 (runs of the ended action into the next up to 4 samples); two, not
-counting samples that came closer to the last point by a still radius 0.903, but the ended
-action then drove three samples into the next in 7 of 32 gestures. Kept at two,
-the length of ``confirm``: the ended action's runs into the next gesture are then at most two
-samples, except where the follower never reached the end (a line whose return was followed
-backwards, its size overestimated: 16 ticks; see the bench's notes).
-
-A return followed backwards: a line (out and back along the same stroke) performed at 0.7x,
-fast, is followed at about 1x: the follower lags at the turn (the size and the progress along a
-straight stroke are one unknown), and the return then matches the outward stroke read backwards,
-so the progress never reaches ``end`` and the line drove 7-19 samples of the next gesture, whose
-evidence it also kept from starting afresh. So the gesture also ends (:meth:`_returned`) when the
-input is back at the template's last point, within :data:`RETURN_RADIUS` of its extent, while
-the followed progress has slid back :data:`RETURN_BACK` from its peak since it became ``best``
-(a figure eight passes its last point at half of it, going forward: no slide). Measured
-with ``bench/follow_quality.py`` (partial runs of its sections; held-out in brackets): six
-gestures back to back, the longest wrong-valid run 16 -> 10 samples (19 -> 7), a held-out square
-never recognised now at 42%; valid after 30% of gestures at 0.7-1.4x 0.901 -> 0.896 (0.885 ->
-0.884): the lines at 0.6-0.85x followed backwards were counted valid (and right) until their
-last sample with the progress 0.7 short (RMSE 0.33-0.48); they now end 3-8 samples before their
-last (radius 0.15 of the extent: 0.895, 0.08: 0.895, 0.05: 0.896, kept). The peak counted
-since the action began driving instead of since it became ``best``: the same without shared
-starts (valid after 30% 0.9112 / 0.9033, now 0.9099 / 0.9033), but with them a line held back
-until its turn never ended (above).
-
-An ended action whose end the follower reached where the input had already stopped has as
-many samples less of grace as the input stood there before (the samples before lying, with the
-last, within :data:`ARRIVE_RADIUS` still radii, range per column; at most :data:`END_GRACE`:
-:meth:`_arrived`): the grace counts from where the performer stopped. On an eased end the
-follower reaches ``end`` one to four samples after the performer, often at the next gesture's
-first samples (the same point), and the ended action drove three or more samples into it.
-One sample less at most, measured with ``bench/follow_quality.py``'s six gestures back to back
-(partial runs; held-out in brackets): runs of the ended action of three samples 7 -> 2 (5 ->
-1), median longest wrong run 3 -> 2.5 (3 -> 2.5); valid after 30% of gestures at 0.7-1.4x
-0.8959 -> 0.8941 (0.8844 -> 0.8829): where the follower reaches ``end`` a sample before the
-performer's last, on the eased approach; with 1 still radius instead of 2 the runs of three
-stay (7 and 5). Counted back up to :data:`END_GRACE` samples (``bench/follow_quality.py``, its
-sections sized, holds, sequences and unrelated; tuned / held-out): runs of the ended action of
-three or more 2 / 1 -> 1 / 0 (the draws for options, 16 sequences: 7 -> 2), median longest
-wrong run 2.5 -> 2 / 2.5 -> 2; valid after 30% of gestures at 0.7-1.4x 0.9016 -> 0.9001 /
-0.9112 -> 0.9105, unrelated motions mean 0.085 -> 0.084 / 0.098 -> 0.098, holds unchanged.
-Left: a wave whose follower reached ``end`` four samples after the performer, who had crept
-within 2 mm of it for eight samples (3 and 4 ticks). Measured and not kept: the end
-reached once past 0.9 with the input within 2 still radii
-of the template's last point (at the estimated size): also runs of at most two, but valid after
-30% of gestures at 0.7-1.4x 0.896 -> 0.886 (it ended closed gestures, whose eased approach
-lies within that radius, several samples early); the last point instead of the sample before
-as the place the input stopped in: the same runs, and on the sized subset of
-``tests/mop/test_quality.py`` one tick less of a figure eight. The grace counted from where the
-performer came to rest (:func:`~behaviors.mop.validity.resting`) with the action followed
-inside its end hold (a compressed hold in the last 10% of its progress: a kick ankle's at
-0.89-0.96, the wave's, the circle's): among twenty templates back to back (seeds 201-210 of
-``bench/follow_quality.evaluate``, 80 sequences) ended actions' runs over two ticks 6 -> 5, the
-longest 4 -> 3; but valid after 30% of gestures at 0.7-1.4x 0.9147 -> 0.9144, at 0.6 and 1.5x
-0.7582 -> 0.7574, raise-hold-return 0.958 -> 0.956 (a wave at 0.6x, a kick ankle at 1.4x and
-a lift each lost their last tick: the follower, level with or ahead of the performer there,
-reached ``end`` two to four samples after they came to rest). The runs left lie *before* the
-end is reached: the follower crosses an eased end at the prior's drift (about a state per
-sample), and a kick ankle performed at 1.5 states per sample is followed at 0.92-0.95 at its
-last one. A forward that keeps the performer's tempo through such stretches ended those runs
-but cost other figures (measured, not kept: :class:`behaviors.mop.hmm.Transitions`); an end at
-the tempo followed before the eased stretch ends most of them (:mod:`behaviors.mop.handover`).
 
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
@@ -235,6 +158,10 @@ ends at the performer's last sample, but valid after 30% 0.8798 / 0.8920; half a
 0.8885 / 0.9044. Every rule that ends sooner costs the sized performances their eased last
 samples, which look the same.
 
+Where a gesture ends (its end reached, a return followed backwards, the grace it still
+drives, where the next one is anchored) and the figures behind those rules:
+:mod:`behaviors.mop.gesture_end`.
+
 Which action may drive while a gesture is under way (it must lead every rival in shape, or be
 committed to by shape) and the figures behind those rules: :mod:`behaviors.mop.shape_lead`.
 """
@@ -244,25 +171,13 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.gesture_end import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII,  # noqa: F401
+                                       RETURN_BACK, RETURN_RADIUS, GestureEnd, arrived,
+                                       drives)
 from behaviors.mop.handover import (TEMPO_END_FROM, TEMPO_END_KEEP, finished, nearest, slowed,
                                     tempo_ended)
 
 
-#: Samples an action still drives after the one at which it reached its end.
-END_GRACE = 2
-#: Still radii (in a column) by which the input, farther from an ended template's last point than
-#: where the end was reached, has moved on: the next gesture has begun
-#: (:meth:`GestureSpotting._moved_on`).
-MOVE_RADII = 2.0
-#: Progress by which a driving action's followed progress must have slid back from its peak,
-#: and distance from its last point (share of the template's extent at the estimated size),
-#: for the input's return to that point to end the gesture (:meth:`GestureSpotting._returned`).
-RETURN_BACK = 0.2
-RETURN_RADIUS = 0.05
-#: An action that reaches its end while the input moved less than this many still radii (per
-#: column) since the sample before has one sample less of grace
-#: (:meth:`GestureSpotting._arrived`): the performer stopped there a sample before.
-ARRIVE_RADIUS = 2.0
 #: Shared starts (:mod:`behaviors.mop.sharing`, ``ActionFollower(share_radius=...)`` in still
 #: radii per column): sizes tried between the size range's extremes' ratio and its inverse, and
 #: states another template may run ahead per state.
@@ -273,29 +188,9 @@ SHARE_SKIP = 3
 SHARE_BACK = 0.03
 
 
-def arrived(recent: list[np.ndarray], radius: np.ndarray) -> int:
-    """How many samples before the last of ``recent`` (oldest first) lie, with it, within
-    ``radius`` (range per column, raw units): the samples the input has already stood there,
-    at most :data:`END_GRACE`."""
-    n = 0
-    while n < min(END_GRACE, len(recent) - 1):
-        a = np.array(recent[-n - 2:])
-        if not np.all(a.max(axis=0) - a.min(axis=0) <= radius):
-            break
-        n += 1
-    return n
-
-
-def drives(run: np.ndarray | int, confirm: np.ndarray | int,
-           after_end: np.ndarray | int) -> np.ndarray | bool:
-    """Whether an action drives (``valid``), per follower or for arrays of them: it matched for
-    ``confirm`` samples in a row (``run``), and reached its end at most :data:`END_GRACE`
-    samples ago (``after_end``: samples since the end was reached, 0 while it was not)."""
-    return (run >= confirm) & (after_end <= END_GRACE)
-
-
-class GestureSpotting:
-    """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: onsets and ends of gestures."""
+class GestureSpotting(GestureEnd):
+    """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: onsets and ends of gestures
+    (the ends' own rules: :class:`~behaviors.mop.gesture_end.GestureEnd`)."""
 
     def _restart_here(self, x: np.ndarray, forward: WindowedForward, offset: int,
                       still: bool = False) -> None:
@@ -313,67 +208,6 @@ class GestureSpotting:
         else:
             self._anchor = x.copy()
             self._recent_x = [x]
-
-    def _last_point(self, k: int) -> np.ndarray:
-        """Template ``k``'s last point at its estimated size, from the anchor (raw units)."""
-        b = self.bank
-        return (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
-                + self._anchor)
-
-    def _next_anchor(self, x: np.ndarray, k: int) -> np.ndarray:
-        """Where the gesture after template ``k``'s (ended, the input now at ``x``) begins: where
-        its end was reached, or its last point (as :meth:`_moved_on` takes it) while the input
-        was still coming closer to it (the follower reached ``end`` before the performer)."""
-        last = self._end_last
-        if np.sum((x - last) ** 2) < np.sum((self._end_x - last) ** 2):
-            return last
-        return self._end_x
-
-    def _departed(self, x: np.ndarray, k: int, distance: float) -> bool:
-        """The input left the point where template ``k`` reached its end by ``distance`` sigmas
-        (RMS per column, in the template's spread and size)."""
-        r = (x - self._end_x) / (self.bank.scale[k] * self._size[k])
-        return bool(np.mean(r * r) >= (distance * self.sigma) ** 2)
-
-    def _moved_on(self, x: np.ndarray, k: int) -> bool:
-        """The input moved on from where template ``k`` reached its end: it is farther from the
-        template's last point (at the estimated size, from the anchor) than when the end was
-        reached, by more than the jitter of a still input (:data:`MOVE_RADII` in a column), so
-        the next gesture has begun; the slow final approach to the last point is not moving on.
-        The template's own onset (0.1 of its spread) let the last action drive the first 13% of
-        the next gesture (whose start is slow), and anchored that one too late to be followed.
-        The last point is taken where the end was reached (``_end_last``): the size estimate goes
-        on adapting to the next gesture, and the point moved with the input (a wave's, at 1.19x
-        to 1.24x, along a square's first side until 0.16 of it; the square, anchored there, was
-        never recognised). Measured on ``bench/motions.back_to_back``'s six gestures, seeds
-        0-39 (240 gestures; the bench's own draws unchanged): never recognised 2 -> 0.
-        :data:`MOVE_RADII` 3 -> 2 (``bench/follow_quality.py``, tuned / held-out): twenty
-        templates back to back, median recognition 0.303 / 0.236 -> 0.258 / 0.236, longest
-        wrong run 3 / 11 -> 2 / 11; six gestures the same but the wave 0.247 -> 0.246 and the
-        held-out circle 0.282 -> 0.280; valid after 30% of gestures at 0.7-1.4x 0.9005 / 0.9023
-        -> 0.9005 / 0.9014, holds valid after 30% 0.958 / 0.965 -> 0.958 / 0.963, unrelated
-        unchanged; seeds 0-39 above: a line's 5 ticks on a square begun late gone. 1.5: sized
-        0.9002 / 0.9008, too near the 0.9 target."""
-        last = self._end_last
-        return bool(np.any(np.abs(x - last)
-                           > np.abs(self._end_x - last) + MOVE_RADII * self._still_radius))
-
-    def _returned(self, x: np.ndarray, k: int, progress: float) -> bool:
-        """The input came back to template ``k``'s last point (within :data:`RETURN_RADIUS` of
-        its extent, at the estimated size, from the anchor) while its followed progress slid back
-        by :data:`RETURN_BACK` from its peak since it became best: a return followed backwards
-        along the outward stroke (a line's out-and-back at another size and tempo) whose end the
-        progress would never reach."""
-        if self._peak - progress < RETURN_BACK:
-            return False
-        r = (x - self._last_point(k)) / self._units
-        return bool(np.sqrt(np.sum(r * r)) <= RETURN_RADIUS * self._size[k] * self._extent[k])
-
-    def _arrived(self) -> int:
-        """Samples the input has already stood where it is (its last recent sample), at most
-        :data:`END_GRACE`: the samples before it that lie, with it, within :data:`ARRIVE_RADIUS`
-        still radii (range per column, as :meth:`_still` measures)."""
-        return arrived(self._recent_x, ARRIVE_RADIUS * self._still_radius)
 
     def _shares(self, k: int, g: float, progress: np.ndarray) -> bool:
         """Whether template ``k``'s followed state ``g`` (bank index) is still within its start

@@ -225,7 +225,7 @@ import math
 import numpy as np
 
 from behaviors.mop import overrun
-from behaviors.mop.overrun import PATH_REACH   # (the path the input is measured against)
+from behaviors.mop.path_kernel import PATH_REACH   # (the path the input is measured against)
 
 #: An action that drives has carried its performer forward once its progress passed where it
 #: began driving by this much (progress units).

@@ -103,11 +103,11 @@ def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures
 def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypatch):
     # the six gestures back to back in random orders (seeds 0-3, 0.8-1.2x): ticks of each next
     # gesture during which the one just ended still drove. An action that reaches its end where
-    # the input already stood still has as many samples less of grace (spotting._arrived, up to
+    # the input already stood still has as many samples less of grace (gesture_end._arrived, up to
     # END_GRACE); measured (the end at the tempo left out): 17 ticks over 20 changes, none over
     # 2; one sample less at most: 22, one of 3 (the follower two samples behind an eased end);
     # with the rule off 32-33, four of 3-4; with the end at the tempo too: 14, none over 2
-    from behaviors.mop import spotting
+    from behaviors.mop import gesture_end, spotting
 
     def late_ticks() -> list[int]:
         f = puck_follower(gestures)
@@ -126,7 +126,7 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
     # of the same runs (with it and without this rule 25)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     alone = late_ticks()
-    monkeypatch.setattr(spotting, "ARRIVE_RADIUS", 0.0)
+    monkeypatch.setattr(gesture_end, "ARRIVE_RADIUS", 0.0)
     plain = late_ticks()
     assert sum(now) <= 16 and max(now) <= 2, now
     assert sum(alone) <= 19 and sum(plain) >= 29, (alone, plain)
