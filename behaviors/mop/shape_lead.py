@@ -66,6 +66,15 @@ With ``--seed=202`` (held-out draws never looked at) the spin drives two circles
 7 samples, the longest wrong runs there. Shared starts made symmetric (also held while a rival's
 followed state lies in its start shared with the action, ``sharing.shared_until``), measured and
 not kept: the held-out run 11 -> 7 (share radius 4: 4), but six gestures within 20% 0.125 -> 0.
+The fit judged without the timing, measured and not kept (``bench/follow_quality.py``, tuned /
+held-out; what it frees, the zigzag, in :mod:`~behaviors.mop.coverage`): committed while its path
+misfit is within ``coverage.EARLY_FIT`` (0.25 sigma) instead of :data:`COMMIT_FIT`, or while its
+shape sum is within 0.4 sigma of its own spread at its size: six gestures within 20% 0.125 -> 0.156
+/ 0.125 (the zigzag 0.67 -> 0.83), held-out twenty's longest wrong run 11 -> 9, sized 0.912 ->
+0.919 / 0.902 -> 0.906 (own spread: 0.920 / 0.902), but unrelated worst 0.058 -> 0.070 (a wander
+among six; the told worst unchanged, 0.057), a spiral after a gesture 0.072 -> 0.083 (0.4
+sigma: held-out 0.083 -> 0.088) and a pause's wrong valid share 0 -> 0.011; at 0.3 and 0.35 sigma
+no gesture sooner.
 
 Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
 longest, where the six gestures' paths part, is 2 ticks.
