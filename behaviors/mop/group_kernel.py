@@ -22,24 +22,25 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (coverage, group_layout, group_steps, holding, invariance, members,
-                           shape_lead, threshold, threshold_kernel, validity)
+from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
+                           members, shape_lead, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
-from behaviors.mop.group_layout import AHEAD, MC_ROWS
+from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS, SHAPE_LAGS
 from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
+from behaviors.mop.commitment import COMMIT_LAGS
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, coverage, group_layout, group_steps, holding, invariance,
-               members, shape_lead, threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
+               invariance, members, shape_lead, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -385,6 +386,16 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 r = dx[c] / t[sc0 + c] / ssz
                 mv += r * r
             shape[k] += acc * spots
+            # ... and at each timing offset (commitment.lagged_fits)
+            for j in range(len(SHAPE_LAGS) if spots > 0.0 else 0):
+                at = min(max(g + (j - COMMIT_LAGS), float(start)), float(last))
+                jl = min(int(at), last - 1)
+                ra, rb, lag2 = states[jl + off], states[jl + 1 + off], 0.0
+                for c in range(d):
+                    q = ra[rel0 + c] + (at - jl) * (rb[rel0 + c] - ra[rel0 + c])
+                    e = (dx[c] - sk * q * m[un0 + c]) / m[ra0 + c]
+                    lag2 += e * e
+                floats[LAG0 + j, k] += lag2
             if spots > 0.0:   # ... and the run of samples it drifts further off (_drifts)
                 rising = acc > drift[k] and acc > dims * DRIFT_FROM ** 2
                 drift_run[k] = drift_run[k] + 1.0 if rising else 0.0
@@ -436,7 +447,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         shape_n[i] += spots
         c = -1   # (searched only where the threshold model allows it, as _committed)
         if spots > 0.0 and kept >= KEPT_COMMIT:
-            c = committed(shape, flags, a0, a1, shape_n[i] * dims, min_lead)
+            c = committed(shape, floats[LAG0:], flags, a0, a1, shape_n[i] * dims, min_lead)
         committed_out[i] = c >= 0
         if committed_out[i]:
             gb = c
