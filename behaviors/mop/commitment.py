@@ -7,7 +7,7 @@ misfit: the zigzag back to back, covered, leading every rival by 16-100 nats and
 0.02-0.08 sigma of its path, summed 2.0-2.7 still radii, and waited 1-2 samples for the evidence
 (:mod:`behaviors.mop.coverage`, the tick-by-tick reading). So the fit is also summed at each
 constant offset of the followed state within :data:`COMMIT_LAGS` states either way
-(:func:`lagged_fits`), and commitment reads the least: a constant lag is timing, not shape; a path
+(:func:`add_lagged`), and commitment reads the least: a constant lag is timing, not shape; a path
 met only by a timing that changes sample by sample is not taken as fitting (below).
 ``bench/follow_quality.py`` (tuned / held-out, against the same figures before): six gestures back
 to back within 20% 0.125 -> 0.156 / 0.125 (or reach the same), the open three 0.235 -> 0.294 /
@@ -31,25 +31,50 @@ sooner.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
+
+from behaviors.kernel_cache import compiled
 
 #: Commitment's fit is read at the best constant timing offset of the followed state, within
 #: this many states either way (0: at the followed state only, as the shape sums).
 COMMIT_LAGS = 3
 
 
-def lagged_fits(dx: np.ndarray, g: np.ndarray, starts: np.ndarray, lengths: np.ndarray,
-                rel: np.ndarray, size: np.ndarray, units: np.ndarray,
-                radius: np.ndarray) -> np.ndarray:
-    """Per template (K,) and timing offset (-:data:`COMMIT_LAGS` .. +:data:`COMMIT_LAGS` states),
-    the squared distance in still radii ``radius`` between the input ``dx`` (from the anchor, raw
-    units) and the template's path at its followed state ``g`` (bank index) plus that offset,
-    within the template (``rel``: each state from its template's first, at ``size``)."""
-    lags = np.arange(-COMMIT_LAGS, COMMIT_LAGS + 1, dtype=float)
-    first = starts.astype(float)[:, None]
-    end = (starts + lengths - 1)[:, None]
-    at = np.clip(g[:, None] + lags[None, :], first, end.astype(float))
-    il = np.minimum(at.astype(np.intp), end - 1)
-    q = rel[il] + (at - il)[..., None] * (rel[il + 1] - rel[il])
-    e = (dx[None, None, :] - size[:, None, None] * q * units) / radius
-    return np.einsum("kld,kld->kl", e, e)
+_F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
+
+
+@compiled(numba.void(_F2, numba.intp, _F1, numba.float64, numba.intp, numba.intp, _F2,
+                     numba.intp, numba.intp, numba.intp, numba.float64, _F1, _F1))
+def add_lagged(sums: np.ndarray, k: int, dx: np.ndarray, g: float, first: int, last: int,
+               states: np.ndarray, off: int, col: int, d: int, size: float, units: np.ndarray,
+               radius: np.ndarray) -> None:
+    """Add to template ``k``'s column of ``sums`` (one row per timing offset, from as many states
+    behind the followed one as ahead: :data:`COMMIT_LAGS` either way) the squared distance in still
+    radii ``radius`` between the input ``dx`` (d: from the anchor, raw units) and the template's
+    path at its followed state ``g`` plus that offset, kept within its states ``first`` .. ``last``
+    (``states``' rows from ``off``, columns ``col`` on: each state from the template's first, in
+    ``units`` at ``size``). The follower (:func:`add_lagged_all`) and the group's kernel call it
+    alike."""
+    for j in range(sums.shape[0]):
+        at = min(max(g + (j - (sums.shape[0] - 1) // 2), float(first)), float(last))
+        jl = min(int(at), last - 1)
+        acc = 0.0
+        for c in range(d):
+            a = states[jl + off, col + c]
+            q = a + (at - jl) * (states[jl + 1 + off, col + c] - a)
+            e = (dx[c] - size * q * units[c]) / radius[c]
+            acc += e * e
+        sums[j, k] += acc
+
+
+@compiled(numba.void(_F2, _F1, _F1, numba.intp[::1], numba.intp[::1], _F2, _F1, _F1, _F1),
+          __file__)
+def add_lagged_all(sums: np.ndarray, dx: np.ndarray, g: np.ndarray, starts: np.ndarray,
+                   lengths: np.ndarray, rel: np.ndarray, size: np.ndarray, units: np.ndarray,
+                   radius: np.ndarray) -> None:
+    """:func:`add_lagged` for every template of a follower's bank (``g``: followed states, bank
+    index; ``rel`` (S, d): each state from its template's first)."""
+    for k in range(g.size):
+        add_lagged(sums, k, dx, g[k], starts[k], starts[k] + lengths[k] - 1, rel, 0, 0,
+                   dx.size, size[k], units, radius)

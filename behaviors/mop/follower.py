@@ -267,8 +267,8 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0
-        # ... and at each timing offset (commitment.lagged_fits)
-        self._shape_lag = np.zeros((len(self.names), 2 * commitment.COMMIT_LAGS + 1))
+        # ... and at each timing offset (commitment.add_lagged)
+        self._shape_lag = np.zeros((2 * commitment.COMMIT_LAGS + 1, len(self.names)))
         # the last squared distance off each followed state, and the samples in a row it grew
         # (shape_lead.ShapeLead._drifts)
         self._drift, self._drift_run = np.zeros(len(self.names)), np.zeros(len(self.names))

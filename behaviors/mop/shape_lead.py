@@ -285,7 +285,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop.commitment import lagged_fits
+from behaviors.mop.commitment import add_lagged_all
 from behaviors.mop.take_fit import outwards, size_of_refused, take_fits_at
 
 
@@ -351,9 +351,8 @@ class ShapeLead:
         d2 = np.einsum("kd,kd->k", d, d)
         self._shape += d2
         # ... and at each timing offset, the least of which commitment reads (_committed)
-        self._shape_lag += lagged_fits(x - self._anchor, gi + frac, self.bank.starts,
-                                       self.bank.lengths, self._rel, self._size, self._units,
-                                       self._still_radius)
+        add_lagged_all(self._shape_lag, x - self._anchor, gi + frac, self.bank.starts,
+                       self.bank.lengths, self._rel, self._size, self._units, self._still_radius)
         # the run of samples each drifts further off, beyond DRIFT_FROM (_drifts)
         rising = (d2 > self._drift) & (d2 > self.dim * DRIFT_FROM ** 2)
         self._drift_run = np.where(rising, self._drift_run + 1.0, 0.0)
@@ -368,7 +367,7 @@ class ShapeLead:
     def _committed(self) -> int:
         """The template committed to by shape (-1: none): engaged, covered, on its path, its
         shape sum within :data:`COMMIT_FIT` (at its best timing offset,
-        :func:`~behaviors.mop.commitment.lagged_fits`) and ahead of every other template not
+        :func:`~behaviors.mop.commitment.add_lagged`) and ahead of every other template not
         refused by :data:`LEAD` (at :data:`SHAPE_SPREAD`), while the templates keep
         :data:`KEPT_COMMIT` against the threshold model. It becomes ``best`` and may drive
         however improbable."""
@@ -379,7 +378,7 @@ class ShapeLead:
         if not ok.any():
             return -1
         c = int(np.argmin(np.where(ok, self._shape, np.inf)))
-        if self._shape_lag[c].min() > self._shape_n * self.dim * COMMIT_FIT ** 2:
+        if self._shape_lag[:, c].min() > self._shape_n * self.dim * COMMIT_FIT ** 2:
             return -1
         others = open_.copy()
         others[c] = False
