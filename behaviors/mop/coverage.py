@@ -207,6 +207,31 @@ path): the wave 0.29 / 0.50, all six 0.188 / 0.313 (the figure eight 0 / 0.57), 
 0.344 -> 0.406, but the diagonal among six 0.064 -> 0.160 (the figure eight taken on its start), the
 held-out twenty's longest wrong run 11 -> 14; on the draws for options the wave's recognition stays
 at 0.238 (within 20% 0).
+Tick by tick on the bench's own draws (``bench/follow_quality.py --sections=sequences``, the six
+gestures' eight sequences, tuned / held-out; for the gesture performed, the progress from which
+each rule held without a break until it drove, medians; ticks counted from the first at its
+observer reach: circle 0.20, zigzag 0.09, wave 0.13). The wave (7 / 4 performed), recognised at
+0.225 / 0.229, 7 / 7.5 ticks after its reach: engaged at its reach, leads in shape (``LEAD``) from
++3 / +4 ticks (0.179 / 0.192), its start shared with the figure eight's until +4 / +5 (0.195 /
+0.196), covered at +6 / +6.5 (0.211 / 0.217), and on that tick committed to
+(:mod:`~behaviors.mop.shape_lead`: best and probable, the eight keeping 0.44-0.85 of the
+probability), then the confirmation's sample. The zigzag (6 / 5), 0.183 / 0.173 (+5.5 / +7):
+engaged and no longer shared at +2.5 / +2 (0.141 / 0.127), covered (its 2.6%) at +4.5 / +6 (0.161 /
+0.159); committed on that tick unless its shape sum fails ``COMMIT_FIT`` (2.0-2.7 still radii, its
+path misfit 0.02-0.08 sigma: the follower lags the fast zigzag; 4 of 6 tuned), then best only by
+the evidence 1-2 samples later (0.59 probable at 0.191: driving at 0.248; 0.37 at 0.156: 0.204;
+read at its best timing offset, :mod:`~behaviors.mop.commitment`, that one is committed to at 0.156
+and drives at 0.180). The circle (4 / 4), 0.262 / 0.266 (+3.5): covered, leading and unshared
+together at +2 / +2.5 (0.234 / 0.248). On the draws for options (16 sequences) the same: the wave
+(13) covered after the shared start in all and after the lead in 12, +5 ticks (0.224; shared to
+0.202, leading from 0.188), best 0-2 samples after it where ``COMMIT_FIT`` fails (7 of 13); the
+zigzag (9) covered at +5 (0.159), best 0.172; the circle (11) every rule at +2 (0.246-0.248).
+Measured and not kept (the whole bench, against the same figures before): the confirmation's sample
+waived for an action committed to: the wave 0.211 / 0.217, the circle 0.248 / 0.250, within 20%
+unchanged (0.125 / 0.125), unrelated worst 0.058 -> 0.067 / 0.099 -> 0.102, after a gesture (told)
+0.072 / 0.083 -> 0.089; waived also at 0.9 probable: within 20% 0.156 / 0.125 (the zigzag),
+unrelated worst 0.075 / 0.110, after a gesture 0.078 / 0.094, held-out twenty's longest wrong run
+11 -> 12.
 """
 
 from __future__ import annotations

@@ -35,6 +35,7 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.recognition import Recognition
 from behaviors.mop.refusal import Refusal, shape_limits
+from behaviors.mop import commitment
 from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
@@ -266,6 +267,8 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0
+        # ... and at each timing offset (commitment.add_lagged)
+        self._shape_lag = np.zeros((2 * commitment.COMMIT_LAGS + 1, len(self.names)))
         # the last squared distance off each followed state, and the samples in a row it grew
         # (shape_lead.ShapeLead._drifts)
         self._drift, self._drift_run = np.zeros(len(self.names)), np.zeros(len(self.names))

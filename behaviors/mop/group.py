@@ -22,6 +22,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import REACH_AHEAD, REACH_BACK, path_distances
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop.group_layout import SHAPE_LAGS
 from behaviors.mop.validity import PATH_REACH
 
 
@@ -98,6 +99,8 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._crawl[rows] = (0, -1)   # as ActionFollower.reset: no crawl, no best
         mine = self._owner_of(rows)
         self._shape[mine] = 0.0
+        for n in SHAPE_LAGS:
+            getattr(self, n)[mine] = 0.0
         self._drift[mine] = 0.0
         self._drift_run[mine] = 0.0
         self._gone[mine] = 0.0

@@ -66,6 +66,8 @@ class GroupArrays:
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._shape_n = np.zeros(m)   # ... and their samples (per member)
+        for n in group_layout.SHAPE_LAGS:   # ... and at each timing offset (commitment's fit)
+            setattr(self, n, np.zeros(len(self._owner)))
         self._drift = np.zeros(len(self._owner))      # ... the last one's, and its run (_drifts)
         self._drift_run = np.zeros(len(self._owner))
         self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
@@ -119,7 +121,7 @@ class GroupArrays:
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
                      "_least", "_judged", "_at_hold_end", "_reached")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
-    _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone")
+    _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone") + group_layout.SHAPE_LAGS
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",

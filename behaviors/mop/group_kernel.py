@@ -22,11 +22,12 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (coverage, group_layout, group_steps, holding, invariance, members,
-                           path_kernel, shape_lead, threshold, threshold_kernel, validity)
+from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
+                           members, path_kernel, shape_lead, threshold, threshold_kernel,
+                           validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
-from behaviors.mop.group_layout import AHEAD, MC_ROWS
+from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
 from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
@@ -34,13 +35,15 @@ from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
+from behaviors.mop.commitment import add_lagged
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, coverage, group_layout, group_steps, holding, invariance,
-               members, path_kernel, shape_lead, threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
+               invariance, members, path_kernel, shape_lead, threshold, threshold_kernel,
+               validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -87,6 +90,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached = floats[11], floats[12], floats[13]
+    lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
     drive_from, drive_peak, drive_moved = m_floats[5], m_floats[6], m_flags[8]
@@ -342,6 +346,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 r = dx[c] / t[sc0 + c] / ssz
                 mv += r * r
             shape[k] += acc * spots
+            # ... and at each timing offset (commitment.add_lagged)
+            if spots > 0.0:
+                add_lagged(lags, k, dx, g, start, last, states, off, rel0, d, sk,
+                           m[un0:un0 + d], m[ra0:ra0 + d])
             if spots > 0.0:   # ... and the run of samples it drifts further off (_drifts)
                 rising = acc > drift[k] and acc > dims * DRIFT_FROM ** 2
                 drift_run[k] = drift_run[k] + 1.0 if rising else 0.0
@@ -393,7 +401,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         shape_n[i] += spots
         c = -1   # (searched only where the threshold model allows it, as _committed)
         if spots > 0.0 and kept >= KEPT_COMMIT:
-            c = committed(shape, flags, a0, a1, shape_n[i] * dims, min_lead)
+            c = committed(shape, lags, flags, a0, a1, shape_n[i] * dims, min_lead)
         committed_out[i] = c >= 0
         if committed_out[i]:
             gb = c

@@ -5,6 +5,8 @@ scalar. :class:`behaviors.mop.group_arrays.GroupArrays` fills them in this order
 :mod:`behaviors.mop.member_validity`) read them by these positions.
 """
 
+from behaviors.mop.commitment import COMMIT_LAGS
+
 #: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
 #: group (D: the widest member's features): its mean (D, raw template units), its place relative
 #: to the template's first in units (D), its progress (``source``) and its path length from the
@@ -27,5 +29,10 @@ MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
           "_gone", "_least", "_judged", "_drift", "_drift_run", "_reached")
+#: Per-template shape sums at each timing offset (:func:`behaviors.mop.commitment.add_lagged`),
+#: rows of ``floats`` after :data:`FLOATS`'s first ones, from :data:`LAG0`.
+SHAPE_LAGS = tuple(f"_shape_lag_{j}" for j in range(2 * COMMIT_LAGS + 1))
+LAG0 = len(FLOATS)
+FLOATS += SHAPE_LAGS
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")

@@ -166,13 +166,15 @@ def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float,
     return acc / dims >= limit2
 
 
-@compiled(numba.intp(_F1, numba.boolean[:, ::1], numba.intp, numba.intp, numba.float64,
-                     numba.float64), *_CALLS_INTO)
-def committed(shape: np.ndarray, flags: np.ndarray, a0: int, a1: int, samples: float,
-              lead: float) -> int:
+@compiled(numba.intp(_F1, numba.float64[:, :], numba.boolean[:, ::1], numba.intp, numba.intp,
+                     numba.float64, numba.float64), *_CALLS_INTO)
+def committed(shape: np.ndarray, lags: np.ndarray, flags: np.ndarray, a0: int, a1: int,
+              samples: float, lead: float) -> int:
     """:meth:`ShapeLead._committed` among templates ``a0..a1`` (group indices; ``flags``:
     the group's flag rows, refused, engaged, misshaped, covered first), but for the threshold
-    model's share: the one committed to by shape, or -1. ``samples``: the shape sums' samples
+    model's share: the one committed to by shape, or -1. ``lags``: the shape sums at each timing
+    offset (one row each, :data:`~behaviors.mop.group_layout.SHAPE_LAGS`), whose least is the
+    fit :data:`~behaviors.mop.shape_lead.COMMIT_FIT` reads. ``samples``: the shape sums' samples
     times the features; ``lead``: :data:`~behaviors.mop.shape_lead.LEAD` in shape units."""
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
     c = -1
@@ -180,7 +182,12 @@ def committed(shape: np.ndarray, flags: np.ndarray, a0: int, a1: int, samples: f
         if (not refused[k] and engaged[k] and covered[k] and not misshaped[k]
                 and (c < 0 or shape[k] < shape[c])):
             c = k
-    if c < 0 or COMMIT_FIT <= 0.0 or shape[c] > samples * COMMIT_FIT ** 2:
+    if c < 0 or COMMIT_FIT <= 0.0:
+        return -1
+    fit = lags[0, c]
+    for j in range(1, lags.shape[0]):
+        fit = min(fit, lags[j, c])
+    if fit > samples * COMMIT_FIT ** 2:
         return -1
     for k in range(a0, a1):
         if k != c and not refused[k] and shape[k] - shape[c] < lead:

@@ -37,35 +37,35 @@ Committed to by shape (:meth:`_committed`): the evidence lags the shape where a 
 predicts the stroke more sharply. On the circle's start, once covered (0.22-0.23 of it), its shape
 sum since the gesture began was 12 against the line's 140 and the square's 198 (still radii), yet
 its probability stayed at 0.00-0.07 for four more samples. So a template engaged, covered, on its
-path, whose shape fits within :data:`COMMIT_FIT` still radii (RMS per column and sample) and
-leads every template not refused by :data:`LEAD`, becomes ``best`` and may drive however
-improbable, while the templates keep :data:`KEPT_COMMIT` against the threshold model.
-``bench/follow_quality.py --sections=sequences`` (tuned / held-out), six gestures back to back,
-recognition minus the observer's reach: circle 0.090 / 0.080 -> 0.062 / 0.066, wave 0.116 /
-0.134 -> 0.095 / 0.099, the others unchanged, longest wrong run 2 / 2 unchanged; sized valid
-after 30% at 0.7-1.4x 0.9005 / 0.9014 -> 0.9019 / 0.9014; unrelated and holds unchanged.
-Measured and not kept: no fit limit (unrelated mean 0.0588 / 0.0657 -> 0.1199 / 0.1122) or the
-threshold model's share only (0.0703 / 0.0745); fit 2 radii: 0.0591 / 0.0657 (a wander, a
-triangle and a diagonal at 1x: ticks where they perform a start of the action); 1.5: no gain.
-The held-out twenty templates' 11-tick run is the same lag the other way: a spin wrist drove a
-circle's 0.30-0.40 (its path within 2-4 mm of the spin's start) while the circle, probability
-0.000, fitted better by only 13-35 (no commitment). Any better-fitting covered template on its
-path counted as a rival: 11 -> 4, but lines held behind squares (sized 0.9014 -> 0.8942 held-out).
-Traced (the held-out seed's first twenty-template sequence), the circle's path so far lies within
-2.2-4.1 mm of a start of the spin's (``bench.spotting_reach.closest_start``) up to 0.37 of it,
-then 6.3, 10.8 and 19 mm at 0.38-0.40; sigma is 9.0 x 11.1 mm on the circle, 7.9 x 5.9 mm on the
-spin, whose narrower Gaussian is worth it 0.76 nats a sample where both fit (evidence lead 8-10
-nats), and the shape sums differ by at most 1.0 nats either way up to 0.37 (the spin fitting
-better at 0.33-0.37), then the circle leads by 0.6, 10.5, 39 and drives from 0.42. Within sigma
-(and the 7.5 mm of the 5% bend ``bench/follow_shapes.py`` asks it to follow) the two starts are
-one path: the run is that stretch plus 3 samples after the paths part beyond 4 mm. No shape
-margin tells them without holding true actions: where a true action at 0.7-1.4x, not yet
-driving, passed this rule, a covered template on its path fitted better by over 2 nats at 23 of
-895 samples (held-out 37 of 890; a line by the square), more than the circle leads before 0.38.
-With ``--seed=202`` (held-out draws never looked at) the spin drives two circles' 0.28-0.41, 6 and
-7 samples, the longest wrong runs there. Shared starts made symmetric (also held while a rival's
-followed state lies in its start shared with the action, ``sharing.shared_until``), measured and
-not kept: the held-out run 11 -> 7 (share radius 4: 4), but six gestures within 20% 0.125 -> 0.
+path, whose shape fits within :data:`COMMIT_FIT` still radii (RMS per column and sample; at the
+best timing offset, :mod:`~behaviors.mop.commitment`) and leads every template not refused by
+:data:`LEAD`, becomes ``best`` and may drive however improbable, while the templates keep
+:data:`KEPT_COMMIT` against the threshold model. ``bench/follow_quality.py --sections=sequences``
+(tuned / held-out), six gestures back to back, recognition minus the observer's reach: circle 0.090
+/ 0.080 -> 0.062 / 0.066, wave 0.116 / 0.134 -> 0.095 / 0.099, the others unchanged, longest wrong
+run 2 / 2 unchanged; sized valid after 30% at 0.7-1.4x 0.9005 / 0.9014 -> 0.9019 / 0.9014;
+unrelated and holds unchanged. Measured and not kept: no fit limit (unrelated mean 0.0588 / 0.0657
+-> 0.1199 / 0.1122) or the threshold model's share only (0.0703 / 0.0745); fit 2 radii: 0.0591 /
+0.0657 (a wander, a triangle and a diagonal at 1x: ticks where they perform a start of the action);
+1.5: no gain. The held-out twenty templates' 11-tick run is the same lag the other way: a spin
+wrist drove a circle's 0.30-0.40 (its path within 2-4 mm of the spin's start) while the circle,
+probability 0.000, fitted better by only 13-35 (no commitment). Any better-fitting covered template
+on its path counted as a rival: 11 -> 4, but lines held behind squares (sized 0.9014 -> 0.8942
+held-out). Traced (the held-out seed's first twenty-template sequence), the circle's path so far
+lies within 2.2-4.1 mm of a start of the spin's (``bench.spotting_reach.closest_start``) up to 0.37
+of it, then 6.3, 10.8 and 19 mm at 0.38-0.40; sigma is 9.0 x 11.1 mm on the circle, 7.9 x 5.9 mm on
+the spin, whose narrower Gaussian is worth it 0.76 nats a sample where both fit (evidence lead 8-10
+nats), and the shape sums differ by at most 1.0 nats either way up to 0.37 (the spin fitting better
+at 0.33-0.37), then the circle leads by 0.6, 10.5, 39 and drives from 0.42. Within sigma (and the
+7.5 mm of the 5% bend ``bench/follow_shapes.py`` asks it to follow) the two starts are one path:
+the run is that stretch plus 3 samples after the paths part beyond 4 mm. No shape margin tells them
+without holding true actions: where a true action at 0.7-1.4x, not yet driving, passed this rule, a
+covered template on its path fitted better by over 2 nats at 23 of 895 samples (held-out 37 of 890;
+a line by the square), more than the circle leads before 0.38. With ``--seed=202`` (held-out draws
+never looked at) the spin drives two circles' 0.28-0.41, 6 and 7 samples, the longest wrong runs
+there. Shared starts made symmetric (also held while a rival's followed state lies in its start
+shared with the action, ``sharing.shared_until``), measured and not kept: the held-out run 11 -> 7
+(share radius 4: 4), but six gestures within 20% 0.125 -> 0.
 
 Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
 longest, where the six gestures' paths part, is 2 ticks.
@@ -285,6 +285,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from behaviors.mop.commitment import add_lagged_all
 from behaviors.mop.take_fit import outwards, size_of_refused, take_fits_at
 
 
@@ -349,6 +350,9 @@ class ShapeLead:
         d /= self._still_radius
         d2 = np.einsum("kd,kd->k", d, d)
         self._shape += d2
+        # ... and at each timing offset, the least of which commitment reads (_committed)
+        add_lagged_all(self._shape_lag, x - self._anchor, gi + frac, self.bank.starts,
+                       self.bank.lengths, self._rel, self._size, self._units, self._still_radius)
         # the run of samples each drifts further off, beyond DRIFT_FROM (_drifts)
         rising = (d2 > self._drift) & (d2 > self.dim * DRIFT_FROM ** 2)
         self._drift_run = np.where(rising, self._drift_run + 1.0, 0.0)
@@ -362,9 +366,11 @@ class ShapeLead:
 
     def _committed(self) -> int:
         """The template committed to by shape (-1: none): engaged, covered, on its path, its
-        shape sum within :data:`COMMIT_FIT` and ahead of every other template not refused by
-        :data:`LEAD` (at :data:`SHAPE_SPREAD`), while the templates keep :data:`KEPT_COMMIT`
-        against the threshold model. It becomes ``best`` and may drive however improbable."""
+        shape sum within :data:`COMMIT_FIT` (at its best timing offset,
+        :func:`~behaviors.mop.commitment.add_lagged`) and ahead of every other template not
+        refused by :data:`LEAD` (at :data:`SHAPE_SPREAD`), while the templates keep
+        :data:`KEPT_COMMIT` against the threshold model. It becomes ``best`` and may drive
+        however improbable."""
         if COMMIT_FIT <= 0 or self._kept < KEPT_COMMIT:
             return -1
         open_ = ~self._refused
@@ -372,7 +378,7 @@ class ShapeLead:
         if not ok.any():
             return -1
         c = int(np.argmin(np.where(ok, self._shape, np.inf)))
-        if self._shape[c] > self._shape_n * self.dim * COMMIT_FIT ** 2:
+        if self._shape_lag[:, c].min() > self._shape_n * self.dim * COMMIT_FIT ** 2:
             return -1
         others = open_.copy()
         others[c] = False

@@ -1,0 +1,84 @@
+"""Commitment's fit, read at the best timing offset. A template committed to by shape
+(:meth:`~behaviors.mop.shape_lead.ShapeLead._committed`) drives however improbable, once its shape
+fits within :data:`~behaviors.mop.shape_lead.COMMIT_FIT` still radii (RMS per column and sample
+since the gesture began). That sum compares each sample with the template's *followed state*; on a
+fast start the follower's state lags the performer along the path, and the sum counts the lag as a
+misfit: the zigzag back to back, covered, leading every rival by 16-100 nats and met within
+0.02-0.08 sigma of its path, summed 2.0-2.7 still radii, and waited 1-2 samples for the evidence
+(:mod:`behaviors.mop.coverage`, the tick-by-tick reading). So the fit is also summed at each
+constant offset of the followed state within :data:`COMMIT_LAGS` states either way
+(:func:`add_lagged`), and commitment reads the least: a constant lag is timing, not shape; a path
+met only by a timing that changes sample by sample is not taken as fitting (below).
+``bench/follow_quality.py`` (tuned / held-out, against the same figures before): six gestures back
+to back within 20% 0.125 -> 0.156 / 0.125 (or reach the same), the open three 0.235 -> 0.294 /
+0.308, the zigzag 0.67 -> 0.83 / 0.80 (median 0.183 -> 0.179); every other figure unchanged (sized
+0.912 / 0.902, unrelated worst 0.058 / 0.099, after a gesture 0.072 / 0.083, holds, pauses, wrong
+runs 1 / 1 and 2 / 11, the draws for options). On ``bench.motions.back_to_back``'s draws 0-59 with
+the zigzag among their four, every gesture that changed is recognised sooner (the zigzag 0.207 /
+0.231 -> 0.183 / 0.204, the circle 0.313 / 0.304 -> 0.287 / 0.278, the wave 0.290 / 0.260 -> 0.263
+/ 0.234), and no wrong run grew. Its cost: :func:`add_lagged` for 800 templates (DESIGN's 8 x 100),
+rows drawn at random, 45 us a tick with 2 features, 105 us with 6 (medians, a machine loaded 12-15
+on 2 cores); ``bench/mop.py --design``'s CPU median per tick on that machine 1.02-1.28 ms before,
+0.99-1.41 ms after (three and five runs), too noisy to resolve it; by the first figures, up to a
+tenth of DESIGN's 1 ms.
+
+The fit judged without the timing, measured and not kept (``bench/follow_quality.py``, tuned /
+held-out; what it frees, the zigzag, in :mod:`~behaviors.mop.coverage`): committed while its path
+misfit is within ``coverage.EARLY_FIT`` (0.25 sigma) instead of ``COMMIT_FIT``, or while its shape
+sum is within 0.4 sigma of its own spread at its size: six gestures within 20% 0.125 -> 0.156 /
+0.125 (the zigzag 0.67 -> 0.83), held-out twenty's longest wrong run 11 -> 9, sized 0.912 -> 0.919
+/ 0.902 -> 0.906 (own spread: 0.920 / 0.902), but unrelated worst 0.058 -> 0.070 (a wander among
+six; the told worst unchanged, 0.057), a spiral after a gesture 0.072 -> 0.083 (0.4 sigma: held-out
+0.083 -> 0.088) and a pause's wrong valid share 0 -> 0.011; at 0.3 and 0.35 sigma no gesture
+sooner.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from behaviors.kernel_cache import compiled
+
+#: Commitment's fit is read at the best constant timing offset of the followed state, within
+#: this many states either way (0: at the followed state only, as the shape sums).
+COMMIT_LAGS = 3
+
+
+_F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
+
+
+@compiled(numba.void(_F2, numba.intp, _F1, numba.float64, numba.intp, numba.intp, _F2,
+                     numba.intp, numba.intp, numba.intp, numba.float64, _F1, _F1))
+def add_lagged(sums: np.ndarray, k: int, dx: np.ndarray, g: float, first: int, last: int,
+               states: np.ndarray, off: int, col: int, d: int, size: float, units: np.ndarray,
+               radius: np.ndarray) -> None:
+    """Add to template ``k``'s column of ``sums`` (one row per timing offset, from as many states
+    behind the followed one as ahead: :data:`COMMIT_LAGS` either way) the squared distance in still
+    radii ``radius`` between the input ``dx`` (d: from the anchor, raw units) and the template's
+    path at its followed state ``g`` plus that offset, kept within its states ``first`` .. ``last``
+    (``states``' rows from ``off``, columns ``col`` on: each state from the template's first, in
+    ``units`` at ``size``). The follower (:func:`add_lagged_all`) and the group's kernel call it
+    alike."""
+    for j in range(sums.shape[0]):
+        at = min(max(g + (j - (sums.shape[0] - 1) // 2), float(first)), float(last))
+        jl = min(int(at), last - 1)
+        acc = 0.0
+        for c in range(d):
+            a = states[jl + off, col + c]
+            q = a + (at - jl) * (states[jl + 1 + off, col + c] - a)
+            e = (dx[c] - size * q * units[c]) / radius[c]
+            acc += e * e
+        sums[j, k] += acc
+
+
+@compiled(numba.void(_F2, _F1, _F1, numba.intp[::1], numba.intp[::1], _F2, _F1, _F1, _F1),
+          __file__)
+def add_lagged_all(sums: np.ndarray, dx: np.ndarray, g: np.ndarray, starts: np.ndarray,
+                   lengths: np.ndarray, rel: np.ndarray, size: np.ndarray, units: np.ndarray,
+                   radius: np.ndarray) -> None:
+    """:func:`add_lagged` for every template of a follower's bank (``g``: followed states, bank
+    index; ``rel`` (S, d): each state from its template's first)."""
+    for k in range(g.size):
+        add_lagged(sums, k, dx, g[k], starts[k], starts[k] + lengths[k] - 1, rel, 0, 0,
+                   dx.size, size[k], units, radius)
