@@ -126,7 +126,9 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   0.06, ``test_coverage``), and the reach's, ALONG's and the crawl rules' own measured gains
   shrinking under their limits (the probes size those cases too). Only taking a probe that
   fits within the floor itself (not only 0.3 of the current): 0.9238 / 0.9106, and 7 of the 12
-  still failed.
+  still failed. A probe's size not judged afresh (:data:`REJUDGE` not counting its step):
+  0.9042 / 0.9137 at 0.3; at 0.5 0.9271 / 0.9143, worst 0.113 / 0.171: what a probe gains is
+  the fresh judgement, and that is also what lets a wrong template drive.
 
 One size per template, the same in every column: a performer's redraw that is taller than wide
 (``bench/follow_shapes.py``) is followed only as far as the misfit allows. Measured and not
