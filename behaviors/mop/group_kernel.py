@@ -23,8 +23,8 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
-                           members, path_kernel, shape_lead, threshold, threshold_kernel,
-                           validity)
+                           members, path_kernel, reversal, shape_lead, threshold,
+                           threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -32,7 +32,8 @@ from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
+from behaviors.mop.invariance import ALONG
+from behaviors.mop.reversal import input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
@@ -42,8 +43,8 @@ from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
-               invariance, members, path_kernel, shape_lead, threshold, threshold_kernel,
-               validity)
+               invariance, members, path_kernel, reversal, shape_lead, threshold,
+               threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]

@@ -46,13 +46,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from behaviors.mop import invariance, validity
+from behaviors.mop import invariance, reversal, validity
 from behaviors.mop.hmm import TemplateBank, inner_holds
-from behaviors.mop.invariance import fitted_size
+from behaviors.mop.reversal import fitted_size
 from behaviors.mop.validity import RESTING_RADII
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (invariance, validity)   # the files whose constants or kernels they take in
+_CALLS_INTO = (invariance, reversal, validity)   # the files whose constants or kernels they take in
 
 #: States before a hold inside a template from which a resting performer may be holding it.
 HOLD_AHEAD = 6

@@ -1,0 +1,126 @@
+"""Reversals: where the input turns back, and where each template does (the landmarks that
+size a template there: :meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`, whose
+docstring in :mod:`behaviors.mop.invariance` holds what was measured)."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from behaviors.kernel_cache import compiled
+
+#: The input reverses where its motion over this many samples and over as many before meet
+#: at a cosine below :data:`REVERSAL_COS` (each longer than :data:`REVERSAL_MOVE` still radii).
+REVERSAL_LAG = 3
+REVERSAL_COS = 0.0
+REVERSAL_MOVE = 2.0
+#: A template's reversal (its states as the input's samples, the sharpest of a run) is a
+#: landmark of the followed state from this many states behind it to this many ahead.
+REVERSAL_BEHIND = 6
+REVERSAL_AHEAD = 6
+
+
+def reversal_map(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """Per state (``rel``: states from their template's first, units), the state of its
+    template's first reversal from :data:`REVERSAL_BEHIND` states before it to
+    :data:`REVERSAL_AHEAD` after, -1 where none: where a template turns back (as
+    :func:`input_reversal`)."""
+    lag, behind, ahead = REVERSAL_LAG, REVERSAL_BEHIND, REVERSAL_AHEAD
+    out = np.full(len(rel), -1, dtype=np.intp)
+    for s, n in zip(starts.tolist(), lengths.tolist()):
+        a = rel[s:s + n]
+        if n < 2 * lag + 1:
+            continue
+        extent = float(np.sqrt(np.sum(a * a, axis=1)).max())
+        v1, v2 = a[lag:n - lag] - a[:n - 2 * lag], a[2 * lag:] - a[lag:n - lag]
+        n1, n2 = np.sqrt(np.sum(v1 * v1, axis=1)), np.sqrt(np.sum(v2 * v2, axis=1))
+        moving = (n1 > 1e-3 * extent) & (n2 > 1e-3 * extent)
+        cos = np.where(moving, np.sum(v1 * v2, axis=1) / np.maximum(n1 * n2, 1e-300), 1.0)
+        turns = []
+        j = 0
+        while j < cos.size:   # each run of reversing states: its sharpest
+            if cos[j] < REVERSAL_COS:
+                e = j
+                while e < cos.size and cos[e] < REVERSAL_COS:
+                    e += 1
+                turns.append(lag + j + int(np.argmin(cos[j:e])))
+                j = e
+            else:
+                j += 1
+        for t in turns:
+            for i in range(max(t - ahead, 0), min(t + behind, n - 1) + 1):
+                if out[s + i] < 0:
+                    out[s + i] = s + t
+    return out
+
+
+@compiled(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp,
+                        numba.float64[:, ::1], numba.float64[::1], numba.float64[::1],
+                        numba.float64, numba.float64[::1]))
+def input_reversal(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, anchor: np.ndarray,
+                   units: np.ndarray, move2: float, out: np.ndarray) -> bool:
+    """Whether the input reverses at this sample ``x[i]``: its motion over the last
+    :data:`REVERSAL_LAG` samples against the motion over as many before (``buf[i]``'s last
+    rows, ``count[i]`` of them valid) at a cosine below :data:`REVERSAL_COS`, each longer than
+    ``sqrt(move2)`` (units). Then ``out`` (d,: from the ``anchor``, in ``units``) is the
+    sample where it turned: the farthest along the motion before."""
+    lag = REVERSAL_LAG
+    s = buf.shape[1]
+    if count[i] < 2 * lag or s < 2 * lag:
+        return False
+    d = x.shape[1]
+    a, b = s - 2 * lag, s - lag
+    n1 = 0.0
+    n2 = 0.0
+    dot = 0.0
+    for c in range(d):
+        v1 = (buf[i, b, c] - buf[i, a, c]) / units[c]
+        v2 = (x[i, c] - buf[i, b, c]) / units[c]
+        n1 += v1 * v1
+        n2 += v2 * v2
+        dot += v1 * v2
+    if not (n1 > move2 and n2 > move2 and dot < REVERSAL_COS * math.sqrt(n1 * n2)):
+        return False
+    far = -np.inf
+    at = s   # s: the sample x itself
+    for r in range(a, s + 1):
+        along = 0.0
+        for c in range(d):
+            y = x[i, c] if r == s else buf[i, r, c]
+            along += (y - buf[i, a, c]) / units[c] * ((buf[i, b, c] - buf[i, a, c]) / units[c])
+        if along > far:
+            far = along
+            at = r
+    for c in range(d):
+        y = x[i, c] if at == s else buf[i, at, c]
+        out[c] = (y - anchor[c]) / units[c]
+    return True
+
+
+@compiled(numba.float64(numba.float64[::1], numba.float64[::1]))
+def fitted_size(q: np.ndarray, r: np.ndarray) -> float:
+    """The size ``s`` (least squares) of ``r ~ s q`` (d,), 0 where ``q`` is 0."""
+    qq = 0.0
+    qr = 0.0
+    for c in range(q.size):
+        qq += q[c] * q[c]
+        qr += q[c] * r[c]
+    return qr / qq if qq > 0.0 else 0.0
+
+
+@compiled(numba.float64(numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
+                        numba.float64))
+def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float) -> float:
+    """The size (:func:`fitted_size`) at which the input's reversal ``r`` (d,: from the anchor,
+    in units) lies on its template's ``q`` (d,: from the first state, in units), when within
+    ``lo``-``hi`` and it puts ``r`` within ``tol`` times itself (units) of ``q``; 0 otherwise."""
+    s = fitted_size(q, r)
+    if not (lo <= s <= hi):
+        return 0.0
+    e2 = 0.0
+    for c in range(q.size):
+        e = r[c] - s * q[c]
+        e2 += e * e
+    return s if e2 <= (tol * s) ** 2 else 0.0
