@@ -92,6 +92,19 @@ samples, 9 degrees median on the diagonal, 13 at 90% of true ticks; the forward'
 states against 0.9 median true. The largest one-sample leap of the followed state in the 10
 samples before a take: over 4 states at 10 of 126 unrelated takes (103, 104, 106) and 7 of 121
 true ones.
+Measured and not kept: the pace not counted once the input stopped (its last sample under a
+quarter of its mean step over :data:`PACE_SAMPLES`), since the followed state runs on for a few
+samples after a sudden stop and keeps the pace: the held-out spiral with the circle alone (seed
+106, 1.0x) ends off the circle's path (0.93-0.97 sigma, 0.02-0.20 four samples back) and drove
+the 3 samples after it stopped. ``bench/follow_seeds.py --sections=unrelated,sized,holds``
+(seeds 101-106): unrelated worst of 106 0.1173 -> 0.1073, over the seeds 0.1173 -> 0.1112 (104's
+wander), held-out valid after 30% 0.8818 -> 0.8816 on 105, the rest identical; but tuned
+(``bench/follow_quality.py``) valid after 30% 0.91207 -> 0.91179 (a 0.7x walk ankle stopping in
+its stance off its path at a size still converging: last step 0.04 sigma against 0.31, distance
+0.66 -> 1.25), redrawn shapes bent 10% 0.6208 -> 0.6191, 1.2x taller 0.3843 -> 0.3811 (held-out
+1.1x 0.8674 -> 0.8647), unrelated unchanged. With a strained action refused at rest as well
+(:mod:`behaviors.mop.validity`, not kept either): over the seeds 0.1173 -> 0.1080 (105's
+diagonal left), held-out valid after 30% mean 0.8876 -> 0.8866, tuned 0.9121 -> 0.9106.
 """
 
 from __future__ import annotations

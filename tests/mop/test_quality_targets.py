@@ -21,3 +21,18 @@ def test_the_figures_missing_their_targets_are_named_held_out_ones_too():
     assert budgets["heldout_unrelated_valid_share_max"] == "<= 0.1"
     assert budgets["sized_0.7_1.4_valid_after30_share"] == ">= 0.9"
     assert targets({})[0] == {} and len(TARGETS) == 14
+
+
+def test_over_several_seeds_the_worst_is_the_lowest_floor_or_highest_ceiling():
+    from bench.follow_seeds import summary
+    sized, unrelated = "sized_0.7_1.4_valid_after30_share", "unrelated_valid_share_max"
+    figures, budgets = summary({101: {sized: 0.902, unrelated: 0.099, "step_us": 3.0},
+                                102: {sized: 0.875, unrelated: 0.085}})
+    assert figures[f"heldout_{sized}_seed102"] == 0.875
+    assert figures[f"heldout_{sized}_worst"] == 0.875
+    assert abs(figures[f"heldout_{sized}_mean"] - 0.8885) < 1e-12
+    assert figures[f"heldout_{unrelated}_worst"] == 0.099
+    # the worst sized misses its floor, the worst unrelated keeps under its ceiling
+    assert figures["targets_missed"] == f"heldout_{sized}_worst"
+    assert budgets == {f"heldout_{sized}_worst": ">= 0.9", f"heldout_{unrelated}_worst": "<= 0.1"}
+    assert figures["seeds"] == "101,102" and not any("step_us" in k for k in figures)

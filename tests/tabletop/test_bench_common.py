@@ -37,13 +37,19 @@ def test_a_number_option_is_refused_outside_its_range(capsys):
             f"follow_quality: --sigma: expected a number in 0.001..100, got {value!r}")
 
 
-def test_follow_quality_answers_help_before_measuring():
-    bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
+def bench_help(name: str) -> str:
+    """What ``bench/NAME.py --help`` prints, once it exited 0 naming the sections."""
+    bench = Path(__file__).resolve().parents[2] / "bench" / f"{name}.py"
     r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
                        timeout=120)
     assert r.returncode == 0 and f"sections: {', '.join(SECTION_NAMES)}" in r.stdout
-    assert "[--sigma=X]" in r.stdout and "sigma: a number in 0.001..100" in r.stdout
-    assert "[--seed=X]" in r.stdout and "seed: a number in 0..999999" in r.stdout
+    return r.stdout
+
+
+def test_follow_quality_answers_help_before_measuring():
+    out = bench_help("follow_quality")
+    assert "[--sigma=X]" in out and "sigma: a number in 0.001..100" in out
+    assert "[--seed=X]" in out and "seed: a number in 0..999999" in out
 
 
 def test_follow_quality_refuses_a_seed_that_is_no_whole_number():
@@ -52,3 +58,25 @@ def test_follow_quality_refuses_a_seed_that_is_no_whole_number():
                        timeout=120)
     assert r.returncode == 1
     assert r.stderr.strip() == "follow_quality: --seed: expected a whole number, got '1.5'"
+
+
+def test_follow_seeds_takes_whole_seeds_and_the_sections_and_refuses_the_rest():
+    from bench.follow_seeds import SEEDS, parse
+    assert parse([]) == (SEEDS, None) and SEEDS == (101, 102, 103, 104, 105, 106)
+    assert parse(["--seeds=7,8", "--sections=sized,unrelated"]) == ((7, 8), {"sized", "unrelated"})
+    for args, said in ((["--seeds=7,x"], "follow_seeds: --seeds: expected a number in 0..999999, "
+                        "got 'x'"),
+                       (["--seeds=1.5"],
+                        "follow_seeds: --seeds: expected whole numbers, got '1.5'"),
+                       (["--seeds="], "follow_seeds: --seeds: expected a number in 0..999999, "
+                        "got ''"),
+                       (["--sections=sized,sizes"], "follow_seeds: --sections: unknown 'sizes'"),
+                       (["--seed=7"], "follow_seeds: unknown argument '--seed=7'")):
+        with pytest.raises(SystemExit) as refused:
+            parse(args)
+        assert str(refused.value.code).splitlines()[0] == said
+
+
+def test_follow_seeds_answers_help_before_measuring():
+    out = bench_help("follow_seeds")
+    assert "[--seeds=X]" in out and "seeds: a number in 0..999999" in out
