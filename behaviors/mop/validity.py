@@ -45,8 +45,7 @@ after 6 moving samples (a gesture paused just after its recognition spared): 0.3
 then either): 0.301 / 0.108 (0.476 / 0.126) but valid after 30% 0.8886 (0.8838): gestures whose
 recognition fell in a pause waited for the performer to move on. Counted from a re-take of
 the same action instead (a wander the zigzag re-took at a new size held it through its final
-rest): measured in :mod:`behaviors.mop.overrun`, not kept.
-recognition fell in a pause waited for the performer to move on. Nor is an action taken while
+rest): measured in :mod:`behaviors.mop.overrun`, not kept. Nor is an action taken while
 *strained* (recent likelihood beyond ``accept_distance``) refused at rest: the held-out wander
 (seed 104, six gestures) ends on the zigzag sized afresh at its reversal and taken again strained
 (1.46 sigma), then held 15 samples through the final rest. Refused at rest until accepted again:
