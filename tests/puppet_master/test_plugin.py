@@ -154,8 +154,8 @@ def test_bad_behaviour_parameters_name_the_config_key(tmp_path):
     with pytest.raises(pm.PuppetMasterError) as err:
         build([{"kind": "puppet_master", "behavior": "behaviors/library/lover"},
                {"kind": "puppet_master", "name": "x", "behavior": str(folder)}])
-    assert str(err.value) == (f"test.yaml: engines[1].behavior: {folder}: behaviour parameter "
-                              "rate_hz: 0 must be from 1 to 1000 Hz")
+    assert str(err.value) == (f"test.yaml: engines[1].behavior: {folder}/behavior.yaml: "
+                              "parameters.rate_hz: 0 must be from 1 to 1000 Hz")
 
 
 def test_a_behaviour_demonstrated_beyond_the_table_is_refused_naming_file_and_line(tmp_path):
