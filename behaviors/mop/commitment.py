@@ -18,9 +18,10 @@ the zigzag among their four, every gesture that changed is recognised sooner (th
 0.231 -> 0.183 / 0.204, the circle 0.313 / 0.304 -> 0.287 / 0.278, the wave 0.290 / 0.260 -> 0.263
 / 0.234), and no wrong run grew. Its cost: :func:`add_lagged` for 800 templates (DESIGN's 8 x 100),
 rows drawn at random, 45 us a tick with 2 features, 105 us with 6 (medians, a machine loaded 12-15
-on 2 cores); ``bench/mop.py --design``'s CPU median per tick on that machine 1.02-1.28 ms before,
-0.99-1.41 ms after (three and five runs), too noisy to resolve it; by the first figures, up to a
-tenth of DESIGN's 1 ms.
+on 2 cores); ``bench/mop.py --design`` on a quiet machine, alternated, the group tick's CPU median
+/ p99 0.815-0.822 / 1.28-1.36 ms before (with the projections of :mod:`behaviors.mop.path_kernel`
+not yet shared), 0.915-0.926 / 1.46-1.48 ms after: within DESIGN's 1 / 2 ms, with a tenth less
+margin.
 
 The fit judged without the timing, measured and not kept (``bench/follow_quality.py``, tuned /
 held-out; what it frees, the zigzag, in :mod:`~behaviors.mop.coverage`): committed while its path
