@@ -14,10 +14,3 @@ import os  # noqa: E402
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 __version__ = "0.1.0"
-
-# the subcommands of the program ``tabletop``, one module each in tabletop.commands
-COMMANDS = early_stop.COMMANDS
-stop_early = early_stop.stop_early
-early_stop_active = early_stop.active
-release_early_stop = early_stop.release
-disposition_before_early_stop = early_stop.disposition_before

@@ -17,8 +17,8 @@ import sys
 import threading
 from typing import Any, Iterator, Sequence
 
-from tabletop import (COMMANDS, __version__, disposition_before_early_stop, early_stop_active,
-                      release_early_stop, stop_early)
+from tabletop import __version__, early_stop
+from tabletop.early_stop import COMMANDS
 
 EXIT_BAD_INPUT = 2
 # ``run`` ended on purpose but its recording failed (a full disk): the kiosk's supervisor ends
@@ -31,8 +31,7 @@ EXIT_INTERRUPTED = 130
 EXIT_OUTPUT_CLOSED = 141
 # the signals that end a run cleanly (README: Ctrl-C, SIGTERM and SIGHUP, a closed terminal or
 # a stopped session), in the installation and in the kiosk's supervisor alike
-STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
-                     if hasattr(signal, n))
+STOP_SIGNALS = tuple(getattr(signal, n) for n in early_stop.STOP_SIGNALS if hasattr(signal, n))
 
 
 @contextlib.contextmanager
@@ -47,7 +46,7 @@ def catch_stop_signals(handler: Any, signals: Sequence[int] = STOP_SIGNALS) -> I
         for s in signals:
             if s == getattr(signal, "SIGHUP", None) and signal.getsignal(s) == signal.SIG_IGN:
                 continue
-            old[s] = disposition_before_early_stop(s, signal.signal(s, handler))
+            old[s] = early_stop.disposition_before(s, signal.signal(s, handler))
     try:
         yield
     finally:
@@ -127,10 +126,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     exit status. A Ctrl-C at any point is one line and status 130, also while the commands'
     modules are still being imported (numpy, OpenCV: the first fraction of a second of every
     command), which is why this module imports nothing of the project's but the package
-    itself at its top. Until the commands' modules
-    are imported, from the package's first line, a stop signal ends the program at once with
-    the same line and status (:func:`tabletop.stop_early`): a KeyboardInterrupt raised in
-    an extension module's import (numpy's) can surface as an ImportError with a traceback."""
+    itself at its top. Until the commands' modules are imported, from the package's first
+    line, a stop signal ends the program at once with the same line and status
+    (:func:`tabletop.early_stop.stop_early`): a KeyboardInterrupt raised in an extension
+    module's import (numpy's) can surface as an ImportError with a traceback."""
     words = list(sys.argv[1:] if argv is None else argv)
     try:
         with _interrupts_kept(), _interrupt_on_stop_signals():
@@ -144,7 +143,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"tabletop{command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     finally:
-        release_early_stop()
+        early_stop.release()
 
 
 # the stop signal whose KeyboardInterrupt :func:`_interrupt` raised last
@@ -156,8 +155,8 @@ _RESENDER: list[threading.Thread] = []
 
 
 def _interrupt(signum: int, frame: Any) -> None:
-    if early_stop_active():   # the program still imports its modules
-        stop_early(signum, frame)
+    if early_stop.active():   # the program still imports its modules
+        early_stop.stop_early(signum, frame)
     _INTERRUPTED_BY[:] = [signum]
     raise KeyboardInterrupt
 
@@ -318,7 +317,7 @@ def _main(words: list[str]) -> int:
     os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     parser = build_parser()
     args, extra = parser.parse_known_args(words)
-    release_early_stop()   # the modules are in: Ctrl-C is Python's KeyboardInterrupt again
+    early_stop.release()   # the modules are in: Ctrl-C is Python's KeyboardInterrupt again
     if extra:   # said by the command's own parser, which argparse leaves to the top one
         command_parser(parser, args).error(f"unrecognized arguments: {' '.join(extra)}")
     nul = [a for a in words if "\x00" in a]

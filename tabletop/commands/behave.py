@@ -220,9 +220,10 @@ def warn_sparse_main(rows: np.ndarray, source: str) -> None:
     import sys
 
     import numpy as np
-    if len(rows) > 1 and float(np.median(np.diff(rows[:, 0]))) > 1.0:
+    apart = float(np.median(np.diff(rows[:, 0]))) if len(rows) > 1 else 0.0
+    if apart > 1.0:
         print(f"tabletop behave: warning: {source}: the main path's samples are "
-              f"{float(np.median(np.diff(rows[:, 0]))):g} s apart (median); times are seconds "
+              f"{apart:g} s apart (median); times are seconds "
               "(milliseconds given?)", file=sys.stderr)
 
 
