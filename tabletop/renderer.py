@@ -5,7 +5,6 @@ window it draws into."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 from pathlib import Path
@@ -19,10 +18,11 @@ import pygame  # noqa: E402
 from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
+from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
+from tabletop.drawing.palette import resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
 from tabletop.pointer import POINTER, PointerFingers  # noqa: E402
@@ -34,7 +34,6 @@ IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
-HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
@@ -78,19 +77,11 @@ def cameras_down(frame: Frame) -> bool:
     return bool(frame.health) and not any(h.ok for h in frame.health)
 
 
-
 def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
     """A shape in units of the character's size, rotated to its heading and placed on the table."""
     ca, sa = math.cos(c.heading), math.sin(c.heading)
     rot = np.array([[ca, -sa], [sa, ca]])
     return shape * c.size @ rot.T + (c.x, c.y)
-
-
-def _hint(hint: tuple[Pose, np.ndarray] | None) -> tuple[Pose, np.ndarray] | None:
-    """A hinted pose with its points as the compiled drawing takes them (N x 2 floats)."""
-    if hint is None:
-        return None
-    return hint[0], np.ascontiguousarray(hint[1], dtype=np.float64).reshape(-1, 2)
 
 
 class Renderer:
@@ -126,7 +117,7 @@ class Renderer:
         self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
-        self._scratch: pygame.Surface | None = None   # black, where hinted poses are drawn
+        self._light = AddedLight()   # where hinted poses are drawn, added as light
         self.lives = Lives()
         self.traces = Traces()
         self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
@@ -309,10 +300,9 @@ class Renderer:
                     and len(pr.hint_points) == len(c.points):
                 # early feedback: the suspected action's pose, a faint light of the
                 # character's own (lively) colour, casting no glow
-                ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
-                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3),
-                                            ground=(0, 0, 0))
-                hinted = self._draw_ghost(target, c, ghost, pr.hint_points)
+                ghost = hinted_pose(pose, c.color, pr.hint)
+                hinted = self._light.add(target, lambda s: self._draw_points(
+                    s, c, ghost, pr.hint_points))
                 hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)
             return P.union([hinted, self._draw_points(target, c, pose, c.points, hint)])
         if c.name in self._sprites:
@@ -322,27 +312,6 @@ class Renderer:
                                             self.map.reading())
         return characters.draw_reactor(target, c, pose)
 
-    def _draw_ghost(self, target: pygame.Surface, c: CharacterState, pose: Pose,
-                    xy: np.ndarray) -> pygame.Rect | None:
-        """A hinted pose (points ``xy``, table metres) as the faint light it is: drawn on black
-        (``pose.ground``) and added onto the target, so it only brightens what lies under it.
-        Painted over the table with the character's inks faded toward the table's colour, a
-        faint pose crossing the character's own glow put out its light: a dark shadow of the
-        pose on the glow (a salamander's hinted tail, 1024x768), its pupils darker still."""
-        scratch = self._scratch
-        if scratch is None or scratch.get_size() != target.get_size():
-            scratch = self._scratch = pygame.Surface(target.get_size(), 0, target)
-            scratch.fill((0, 0, 0))
-        r = self._draw_points(scratch, c, pose, xy)
-        if r is None:
-            return None
-        r = r.clip(target.get_rect())
-        target.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
-        # black again (multiplied by black: a sixth of a plain fill's time here, 0.03 ms for
-        # a 300 x 220 px figure)
-        scratch.fill((0, 0, 0), r, pygame.BLEND_RGB_MULT)
-        return r
-
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
                      xy: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
                      ) -> pygame.Rect | None:
@@ -350,9 +319,9 @@ class Renderer:
         (or a hybrid's) shows ``hint``'s features faintly on it (:func:`draw_face`)."""
         xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
         if c.kind == "face":
-            return characters.draw_face(target, c, pose, xy, self.map.H, _hint(hint))
+            return characters.draw_face(target, c, pose, xy, self.map.H, as_points(hint))
         if c.kind == "hybrid":
-            return characters.draw_hybrid(target, c, pose, xy, self.map.H, _hint(hint))
+            return characters.draw_hybrid(target, c, pose, xy, self.map.H, as_points(hint))
         return characters.draw_figure(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
