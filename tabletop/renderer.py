@@ -77,13 +77,6 @@ def cameras_down(frame: Frame) -> bool:
     return bool(frame.health) and not any(h.ok for h in frame.health)
 
 
-def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
-    """A shape in units of the character's size, rotated to its heading and placed on the table."""
-    ca, sa = math.cos(c.heading), math.sin(c.heading)
-    rot = np.array([[ca, -sa], [sa, ca]])
-    return shape * c.size @ rot.T + (c.x, c.y)
-
-
 class Renderer:
     """Draws frames: the table, the characters with their life (under the pucks), the pucks'
     halos and trails, the "one moment" and idle looks, and the operator overlay.
@@ -134,6 +127,7 @@ class Renderer:
         self._tiles: np.ndarray | None = None           # ... as tiles (tabletop.drawing.dirty)
         self._last_target: pygame.Surface | None = None
         self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
+        self._invite_at = screens.InvitationPlace()   # ... kept off the characters
 
     def _corners(self) -> np.ndarray:
         w, h = self.table
@@ -166,10 +160,11 @@ class Renderer:
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         if self.idle > 0:
             w, h = self.table
-            screens.idle(target, t, self.idle, self._corners(), self.invitation,
-                         self.map.point(w / 2, 0.2 * h),
-                         int(0.045 * h * self.map.scale_at(w / 2, h / 2)) + 8,
-                         self.map.reading())
+            px, reading = int(0.045 * h * self.map.scale_at(w / 2, h / 2)) + 8, self.map.reading()
+            at = self._invite_at([self.map.point(u * w, v * h) for u, v in screens.INVITE_AT],
+                                 self.invitation, px, reading,
+                                 characters.bodies(frame.characters, self.map))
+            screens.idle(target, t, self.idle, self._corners(), self.invitation, at, px, reading)
         drawn: list[pygame.Rect | None] = []
         # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
         # words (its REC seconds and TRY keys were under the panel; the studio's dirty

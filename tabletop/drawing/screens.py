@@ -269,14 +269,20 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     """One line centred on ``center``, at opacity ``alpha``, upright on the table as
     ``reading`` says (rendered and turned once per line, size, colour and reading: a breathing
     line costs a blit per frame, not a render)."""
+    img = _line(line, px, color, reading)
+    img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
+    surf.blit(img, reading.at(img.get_size(), center))
+
+
+def _line(line: str, px: int, color: Color, reading: Reading) -> pygame.Surface:
+    """:func:`words` turned by ``reading``, kept per line, size, colour and reading."""
     key = (line, px, color, reading)
     img = _lines.get(key)
     if img is None:
         if len(_lines) > 64:
             _lines.clear()
         img = _lines[key] = reading.turn(words(line, px, color))
-    img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
-    surf.blit(img, reading.at(img.get_size(), center))
+    return img
 
 
 def one_moment(surf: pygame.Surface, t: float, alpha: float,
@@ -354,7 +360,40 @@ def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
     c = (lo + hi) / 2
     b = 0.55 + 0.45 * math.sin(0.8 * t)
     text(surf, invitation, words or (c[0], c[1] + 0.3 * span[1]),
-         px or int(0.045 * span[1]) + 8, (200, 215, 240), alpha * b, reading)
+         px or int(0.045 * span[1]) + 8, INVITE_COLOR, alpha * b, reading)
+
+
+INVITE_COLOR = (200, 215, 240)
+# Where the idle invitation may stand (fractions of the table's width and depth, 0 the
+# reader's near edge), in order: between the table's centre and its near edge, nearer that edge,
+# to either side, at the far edge. A figure drawn 0.6 m tall (touch-pose) stood on the first,
+# its feet over "touch the table" (1280x720).
+INVITE_AT = ((0.5, 0.2), (0.5, 0.1), (0.25, 0.2), (0.75, 0.2), (0.5, 0.85))
+
+
+class InvitationPlace:
+    """Which of :data:`INVITE_AT` the invitation stands at: where it stood while that stays
+    clear of the characters' bodies, else the first place clear of them (the one over the
+    least of them when none is): the words do not jump about as a figure breathes."""
+
+    def __init__(self) -> None:
+        self.at = 0
+
+    def __call__(self, spots: Sequence[tuple[float, float]], line: str, px: int,
+                 reading: Reading, bodies: Sequence[pygame.Rect]) -> tuple[float, float]:
+        """The window pixel the invitation ``line`` (``px`` tall, read as ``reading``) is
+        centred on, of ``spots`` (pixels, in :data:`INVITE_AT`'s order), kept off
+        ``bodies`` (pixels)."""
+        if not line:
+            return spots[0]
+        size = _line(line, px, INVITE_COLOR, reading).get_size()
+
+        def over(i: int) -> int:
+            r = reading.at(size, spots[i])
+            return sum(r.clip(b).w * r.clip(b).h for b in bodies)
+        if self.at >= len(spots) or over(self.at):
+            self.at = min(range(len(spots)), key=lambda i: (over(i), i))
+        return spots[self.at]
 
 
 def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,
