@@ -34,7 +34,9 @@ IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
-FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
+# a mouse finger's ring: its radius (table metres: 9 px at 1280x720 on a 1.2 x 0.8 m table,
+# 14 px at 1920x1080, at least 6; its line 2 and 3 px)
+FINGER_RING, FINGER_M = (235, 235, 235), 0.0107
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
@@ -191,9 +193,10 @@ class Renderer:
         # lift it; known by the ids the pointer holds now, not by an id range: a TUIO
         # tracker counts its session ids up for as long as it runs, past any range
         mouse = {f.id for f in self.pointer.touches()} if frame.touches else set()
-        drawn.extend(pygame.draw.circle(target, FINGER_RING, self.map.point(f.x, f.y),
-                                        FINGER_PX, width=2)
-                     for f in frame.touches if f.id in mouse)
+        for f in (f for f in frame.touches if f.id in mouse):
+            r = max(6, round(FINGER_M * self.map.scale_at(f.x, f.y)))
+            drawn.append(pygame.draw.circle(target, FINGER_RING, self.map.point(f.x, f.y), r,
+                                            width=max(2, round(r / 4.5))))
         if self.moment > 0:
             screens.one_moment(target, t, self.moment,
                                self.map.point(self.table[0] / 2, self.table[1] / 2),
@@ -391,10 +394,13 @@ class Renderer:
                  if must and not reading.quarter else [])
         tallest = max((b - a for side in bands for a, b in side), default=deep - 16)
         key, cap = tuple(lines), (tallest if 3 * tallest >= deep else deep - 16)
+        sizes = screens.panel_sizes(deep)     # larger in a larger window
+        if (W, H) != self._overlay_w:
+            self._overlay_px = sizes[0]
         if (key != self._overlay_key or cap != self._overlay_cap or self._overlay_img is None
                 or (W, H) != self._overlay_w):
             img, self._overlay_px = screens.fitted_panel(lines, width, cap, self._overlay_px,
-                                                         keep=keep)
+                                                         keep=keep, px_sizes=sizes)
             self._overlay_img = reading.turn(img)
             self._overlay_key, self._overlay_cap, self._overlay_w = key, cap, (W, H)
         w, h = self._overlay_img.get_size()

@@ -217,30 +217,42 @@ class SeeThrough:
 
 
 PANEL_PX = (20, 18, 16, 14, 13)     # the panel's font sizes, tried in turn in a small window
+# ... in a window up to this many pixels deep (its height, as the panel reads); in a deeper one
+# in proportion (a 1920x1080 projector's panel at 20 px was two thirds of its size at 1280x720)
+PANEL_DEEP = 720
+
+
+def panel_sizes(deep: int) -> tuple[int, ...]:
+    """:data:`PANEL_PX` for a window ``deep`` pixels deep (:data:`PANEL_DEEP`)."""
+    k = max(1.0, deep / PANEL_DEEP)
+    return tuple(int(round(p * k)) for p in PANEL_PX)
 
 
 def fitted_panel(lines: Sequence[str], width: int, height: int, px: int = PANEL_PX[0],
-                 keep: bool = True) -> tuple[pygame.Surface, int]:
+                 keep: bool = True, px_sizes: Sequence[int] = PANEL_PX
+                 ) -> tuple[pygame.Surface, int]:
     """:func:`panel` no taller than ``height`` pixels: in the first font size of
-    ``PANEL_PX`` from ``px`` (the size that fitted last time) whose panel fits, trying the next
-    larger one too when ``px`` fits (lines may have gone); in the smallest, the last lines give
-    way to a line saying how many are left out (the shipped config's 13 overlay lines make a
-    256 px panel at 20 px: in a 400x225 window its first lines, tick, fps and errors, would
-    stand above the window's top). Returns the panel and the font size used."""
-    sizes = [p for p in PANEL_PX if p <= px] or [PANEL_PX[-1]]
-    larger = [p for p in PANEL_PX if p > sizes[0]]
+    ``px_sizes`` (:func:`panel_sizes`) from ``px`` (the size that fitted last time) whose panel
+    fits, trying the next larger one too when ``px`` fits (lines may have gone); in the
+    smallest, the last lines give way to a line saying how many are left out (the shipped
+    config's 13 overlay lines make a 256 px panel at 20 px: in a 400x225 window its first
+    lines, tick, fps and errors, would stand above the window's top). Its margin is half the
+    largest size, at least 10 px. Returns the panel and the font size used."""
+    pad = max(10, px_sizes[0] // 2)
+    sizes = [p for p in px_sizes if p <= px] or [px_sizes[-1]]
+    larger = [p for p in px_sizes if p > sizes[0]]
     if larger:
-        up = panel(lines, larger[-1], width=width, keep=keep)
+        up = panel(lines, larger[-1], pad, width=width, keep=keep)
         if up.get_height() <= height:
             return up, larger[-1]
     for size in sizes:
-        img = panel(lines, size, width=width, keep=keep)
+        img = panel(lines, size, pad, width=width, keep=keep)
         if img.get_height() <= height:
             return img, size
-    size = PANEL_PX[-1]
+    size = px_sizes[-1]
     for n in range(len(lines) - 1, 0, -1):
         cut = [*lines[:n], f"... {len(lines) - n} more lines (a larger window shows them)"]
-        img = panel(cut, size, width=width, keep=keep)
+        img = panel(cut, size, pad, width=width, keep=keep)
         if img.get_height() <= height:
             break
     return img, size
