@@ -19,7 +19,7 @@ from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # n
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E402
-from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
+from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
 from tabletop.drawing.palette import resting, vivid  # noqa: E402
@@ -53,16 +53,13 @@ PANEL_MIN_PX = 480
 # but left the text at a quarter of its light, hard to read over the character.
 SEE_THROUGH = 150
 
-# Reactor body in units of its size, nose along +x (the default character's outline).
-BODY = REACTOR_BODY
-EYES = REACTOR_EYES
-# A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this
-# many of its sizes inside the table's edge: its outline reaches 0.5 (BODY), 0.55 breathing and
+# A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this many
+# of its sizes inside the table's edge: its outline reaches 0.5 (REACTOR_BODY), 0.55 breathing and
 # stepping. Engines keep a reactor's centre on the table (Puppet Master clamps it to the table's
 # bounds), so one on the edge drawn at its centre would lie half in the margin, off a real table,
-# where the projector's light falls on the floor. Pulled in continuously (a clamp), a
-# character sliding along the edge moves as it does; its glow may still light the margin, as a
-# puck's ring on the edge does (tabletop.drawing.pucks.inside_edge).
+# where the projector's light falls on the floor. Pulled in continuously (a clamp), a character
+# sliding along the edge moves as it does; its glow may still light the margin, as a puck's ring on
+# the edge does (tabletop.drawing.pucks.inside_edge).
 BODY_REACH = 0.55
 
 
@@ -323,11 +320,13 @@ class Renderer:
         return characters.draw_figure(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
-        """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`)."""
+        """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`), 22 px
+        tall and larger in a larger window, as the overlay's text (:func:`screens.panel_sizes`)."""
         img = self._labels.get(puck_id)
         if img is None:
+            px = round(22 * max(1.0, min(self.size) / screens.PANEL_DEEP))
             img = self._labels[puck_id] = self.map.reading().turn(
-                screens.font(22).render(str(puck_id), True, puck_color(puck_id)))
+                screens.font(px).render(str(puck_id), True, puck_color(puck_id)))
         return img
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:

@@ -54,3 +54,16 @@ def test_the_overlay_text_grows_with_the_window():
     # measured: 12 rows at both before; after 12 and 19
     assert 1.4 <= large / small <= 1.6
     assert text_height((640, 360)) == small         # a small window's as it was
+
+
+def label_height(size: tuple[int, int]) -> int:
+    """The lit rows of puck 7's id (designer mode: the overlay on) in a ``size`` window."""
+    r = Renderer(TABLE, size)
+    return int(np.ptp(np.flatnonzero(pygame.surfarray.array3d(r._label(7)).sum(axis=2)
+                                     .max(axis=0) > 300))) + 1
+
+
+def test_a_pucks_id_grows_with_the_window_as_the_overlay_does():
+    small, large = label_height((1280, 720)), label_height((1920, 1080))
+    # measured: 17 rows at both before (a 22 px font); after 17 and 24 (33 px)
+    assert 1.3 <= large / small <= 1.6
