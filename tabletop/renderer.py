@@ -5,7 +5,6 @@ window it draws into."""
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 from pathlib import Path
@@ -19,10 +18,11 @@ import pygame  # noqa: E402
 from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
-from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
+from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E402
+from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
+from tabletop.drawing.palette import resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
 from tabletop.pointer import POINTER, PointerFingers  # noqa: E402
@@ -34,8 +34,9 @@ IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
-HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
-FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
+# a mouse finger's ring: its radius (table metres: 9 px at 1280x720 on a 1.2 x 0.8 m table,
+# 14 px at 1920x1080, at least 6; its line 2 and 3 px)
+FINGER_RING, FINGER_M = (235, 235, 235), 0.0107
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
@@ -52,16 +53,13 @@ PANEL_MIN_PX = 480
 # but left the text at a quarter of its light, hard to read over the character.
 SEE_THROUGH = 150
 
-# Reactor body in units of its size, nose along +x (the default character's outline).
-BODY = REACTOR_BODY
-EYES = REACTOR_EYES
-# A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this
-# many of its sizes inside the table's edge: its outline reaches 0.5 (BODY), 0.55 breathing and
+# A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this many
+# of its sizes inside the table's edge: its outline reaches 0.5 (REACTOR_BODY), 0.55 breathing and
 # stepping. Engines keep a reactor's centre on the table (Puppet Master clamps it to the table's
 # bounds), so one on the edge drawn at its centre would lie half in the margin, off a real table,
-# where the projector's light falls on the floor. Pulled in continuously (a clamp), a
-# character sliding along the edge moves as it does; its glow may still light the margin, as a
-# puck's ring on the edge does (tabletop.drawing.pucks.inside_edge).
+# where the projector's light falls on the floor. Pulled in continuously (a clamp), a character
+# sliding along the edge moves as it does; its glow may still light the margin, as a puck's ring on
+# the edge does (tabletop.drawing.pucks.inside_edge).
 BODY_REACH = 0.55
 
 
@@ -76,21 +74,6 @@ def cameras_down(frame: Frame) -> bool:
     if frame.status == "one_moment":
         return True
     return bool(frame.health) and not any(h.ok for h in frame.health)
-
-
-
-def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
-    """A shape in units of the character's size, rotated to its heading and placed on the table."""
-    ca, sa = math.cos(c.heading), math.sin(c.heading)
-    rot = np.array([[ca, -sa], [sa, ca]])
-    return shape * c.size @ rot.T + (c.x, c.y)
-
-
-def _hint(hint: tuple[Pose, np.ndarray] | None) -> tuple[Pose, np.ndarray] | None:
-    """A hinted pose with its points as the compiled drawing takes them (N x 2 floats)."""
-    if hint is None:
-        return None
-    return hint[0], np.ascontiguousarray(hint[1], dtype=np.float64).reshape(-1, 2)
 
 
 class Renderer:
@@ -126,7 +109,7 @@ class Renderer:
         self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
-        self._scratch: pygame.Surface | None = None   # black, where hinted poses are drawn
+        self._light = AddedLight()   # where hinted poses are drawn, added as light
         self.lives = Lives()
         self.traces = Traces()
         self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
@@ -143,6 +126,7 @@ class Renderer:
         self._tiles: np.ndarray | None = None           # ... as tiles (tabletop.drawing.dirty)
         self._last_target: pygame.Surface | None = None
         self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
+        self._invite_at = screens.InvitationPlace()   # ... kept off the characters
 
     def _corners(self) -> np.ndarray:
         w, h = self.table
@@ -175,10 +159,11 @@ class Renderer:
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         if self.idle > 0:
             w, h = self.table
-            screens.idle(target, t, self.idle, self._corners(), self.invitation,
-                         self.map.point(w / 2, 0.2 * h),
-                         int(0.045 * h * self.map.scale_at(w / 2, h / 2)) + 8,
-                         self.map.reading())
+            px, reading = int(0.045 * h * self.map.scale_at(w / 2, h / 2)) + 8, self.map.reading()
+            at = self._invite_at([self.map.point(u * w, v * h) for u, v in screens.INVITE_AT],
+                                 self.invitation, px, reading,
+                                 characters.bodies(frame.characters, self.map))
+            screens.idle(target, t, self.idle, self._corners(), self.invitation, at, px, reading)
         drawn: list[pygame.Rect | None] = []
         # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
         # words (its REC seconds and TRY keys were under the panel; the studio's dirty
@@ -205,9 +190,10 @@ class Renderer:
         # lift it; known by the ids the pointer holds now, not by an id range: a TUIO
         # tracker counts its session ids up for as long as it runs, past any range
         mouse = {f.id for f in self.pointer.touches()} if frame.touches else set()
-        drawn.extend(pygame.draw.circle(target, FINGER_RING, self.map.point(f.x, f.y),
-                                        FINGER_PX, width=2)
-                     for f in frame.touches if f.id in mouse)
+        for f in (f for f in frame.touches if f.id in mouse):
+            r = max(6, round(FINGER_M * self.map.scale_at(f.x, f.y)))
+            drawn.append(pygame.draw.circle(target, FINGER_RING, self.map.point(f.x, f.y), r,
+                                            width=max(2, round(r / 4.5))))
         if self.moment > 0:
             screens.one_moment(target, t, self.moment,
                                self.map.point(self.table[0] / 2, self.table[1] / 2),
@@ -309,10 +295,9 @@ class Renderer:
                     and len(pr.hint_points) == len(c.points):
                 # early feedback: the suspected action's pose, a faint light of the
                 # character's own (lively) colour, casting no glow
-                ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
-                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3),
-                                            ground=(0, 0, 0))
-                hinted = self._draw_ghost(target, c, ghost, pr.hint_points)
+                ghost = hinted_pose(pose, c.color, pr.hint)
+                hinted = self._light.add(target, lambda s: self._draw_points(
+                    s, c, ghost, pr.hint_points))
                 hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)
             return P.union([hinted, self._draw_points(target, c, pose, c.points, hint)])
         if c.name in self._sprites:
@@ -322,27 +307,6 @@ class Renderer:
                                             self.map.reading())
         return characters.draw_reactor(target, c, pose)
 
-    def _draw_ghost(self, target: pygame.Surface, c: CharacterState, pose: Pose,
-                    xy: np.ndarray) -> pygame.Rect | None:
-        """A hinted pose (points ``xy``, table metres) as the faint light it is: drawn on black
-        (``pose.ground``) and added onto the target, so it only brightens what lies under it.
-        Painted over the table with the character's inks faded toward the table's colour, a
-        faint pose crossing the character's own glow put out its light: a dark shadow of the
-        pose on the glow (a salamander's hinted tail, 1024x768), its pupils darker still."""
-        scratch = self._scratch
-        if scratch is None or scratch.get_size() != target.get_size():
-            scratch = self._scratch = pygame.Surface(target.get_size(), 0, target)
-            scratch.fill((0, 0, 0))
-        r = self._draw_points(scratch, c, pose, xy)
-        if r is None:
-            return None
-        r = r.clip(target.get_rect())
-        target.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
-        # black again (multiplied by black: a sixth of a plain fill's time here, 0.03 ms for
-        # a 300 x 220 px figure)
-        scratch.fill((0, 0, 0), r, pygame.BLEND_RGB_MULT)
-        return r
-
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
                      xy: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
                      ) -> pygame.Rect | None:
@@ -350,17 +314,19 @@ class Renderer:
         (or a hybrid's) shows ``hint``'s features faintly on it (:func:`draw_face`)."""
         xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
         if c.kind == "face":
-            return characters.draw_face(target, c, pose, xy, self.map.H, _hint(hint))
+            return characters.draw_face(target, c, pose, xy, self.map.H, as_points(hint))
         if c.kind == "hybrid":
-            return characters.draw_hybrid(target, c, pose, xy, self.map.H, _hint(hint))
+            return characters.draw_hybrid(target, c, pose, xy, self.map.H, as_points(hint))
         return characters.draw_figure(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
-        """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`)."""
+        """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`), 22 px
+        tall and larger in a larger window, as the overlay's text (:func:`screens.panel_sizes`)."""
         img = self._labels.get(puck_id)
         if img is None:
+            px = round(22 * max(1.0, min(self.size) / screens.PANEL_DEEP))
             img = self._labels[puck_id] = self.map.reading().turn(
-                screens.font(22).render(str(puck_id), True, puck_color(puck_id)))
+                screens.font(px).render(str(puck_id), True, puck_color(puck_id)))
         return img
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
@@ -427,10 +393,13 @@ class Renderer:
                  if must and not reading.quarter else [])
         tallest = max((b - a for side in bands for a, b in side), default=deep - 16)
         key, cap = tuple(lines), (tallest if 3 * tallest >= deep else deep - 16)
+        sizes = screens.panel_sizes(deep)     # larger in a larger window
+        if (W, H) != self._overlay_w:
+            self._overlay_px = sizes[0]
         if (key != self._overlay_key or cap != self._overlay_cap or self._overlay_img is None
                 or (W, H) != self._overlay_w):
             img, self._overlay_px = screens.fitted_panel(lines, width, cap, self._overlay_px,
-                                                         keep=keep)
+                                                         keep=keep, px_sizes=sizes)
             self._overlay_img = reading.turn(img)
             self._overlay_key, self._overlay_cap, self._overlay_w = key, cap, (W, H)
         w, h = self._overlay_img.get_size()

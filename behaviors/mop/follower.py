@@ -41,7 +41,7 @@ from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
 from behaviors.mop.state import FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.validity import Validity
+from behaviors.mop.follower_validity import Validity
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 

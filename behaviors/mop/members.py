@@ -20,11 +20,12 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import (gesture_end, handover, member_validity, overrun, path_kernel,
-                           shape_lead, spotting, take_fit, validity)
-from behaviors.mop.gesture_end import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
-                                       RETURN_RADIUS)
+from behaviors.mop import (gesture_end, handover, member_buffer, member_validity, overrun,
+                           path_kernel, shape_lead, spotting, take_fit, validity)
+from behaviors.mop.gesture_end import END_GRACE, MOVE_RADII, RETURN_BACK, RETURN_RADIUS
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
+# (members.push and the rest of the buffer's stay importable from here)
+from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
@@ -33,8 +34,8 @@ from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
 # and take_fit's through member_validity's)
-_CALLS_INTO = (gesture_end, handover, member_validity, overrun, path_kernel, shape_lead, spotting,
-               take_fit, validity)
+_CALLS_INTO = (gesture_end, handover, member_buffer, member_validity, overrun, path_kernel,
+               shape_lead, spotting, take_fit, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -63,85 +64,6 @@ MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
-
-
-@compiled(numba.void(_F3, _I1, _F2, numba.intp, numba.intp), *_CALLS_INTO)
-def push(buf: np.ndarray, count: np.ndarray, x: np.ndarray, i: int, keep: int) -> None:
-    """Append member ``i``'s sample ``x[i]`` to its recent-sample buffer ``buf[i]`` (S, D),
-    oldest row first, the newest last; ``count[i]``: valid rows, at most ``keep``."""
-    s = buf.shape[1]
-    for r in range(s - 1):
-        buf[i, r] = buf[i, r + 1]
-    buf[i, s - 1] = x[i]
-    count[i] = min(count[i] + 1, keep)
-
-
-@compiled(numba.boolean(_F3, _I1, numba.intp, numba.intp, _F1), *_CALLS_INTO)
-def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.ndarray) -> bool:
-    """:meth:`GestureSpotting._still` after the push: member ``i``'s last ``samples`` buffered
-    samples all within ``2 radius`` (D,) per column (False while fewer were seen)."""
-    if count[i] < samples:
-        return False
-    s = buf.shape[1]
-    for c in range(buf.shape[2]):
-        hi = -np.inf
-        lo = np.inf
-        for r in range(s - samples, s):
-            hi = max(hi, buf[i, r, c])
-            lo = min(lo, buf[i, r, c])
-        if not hi - lo <= 2.0 * radius[c]:
-            return False
-    return True
-
-
-@compiled(numba.intp(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
-def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> int:
-    """:func:`behaviors.mop.gesture_end.arrived` over member ``i``'s buffered samples (the last the
-    newest): how many before the last lie, with it, within ``ARRIVE_RADIUS radius`` (D,) per
-    column (range), at most ``END_GRACE``."""
-    s = buf.shape[1]
-    n = 0
-    while n < min(END_GRACE, count[i] - 1):
-        for c in range(buf.shape[2]):
-            hi = -np.inf
-            lo = np.inf
-            for r in range(s - n - 2, s):
-                hi = max(hi, buf[i, r, c])
-                lo = min(lo, buf[i, r, c])
-            if not hi - lo <= ARRIVE_RADIUS * radius[c]:
-                return n
-        n += 1
-    return n
-
-
-@compiled(numba.void(_F3, _I1, numba.intp, _F1, _F1), *_CALLS_INTO)
-def nearest(buf: np.ndarray, count: np.ndarray, i: int, point: np.ndarray,
-            out: np.ndarray) -> None:
-    """:func:`behaviors.mop.spotting.nearest` over member ``i``'s buffered samples (the last the
-    newest) into ``out``: the one nearest ``point`` (D,), the latest among equals."""
-    s = buf.shape[1]
-    best, at = np.inf, s - 1
-    for r in range(s - 1, s - 1 - count[i], -1):
-        acc = 0.0
-        for c in range(buf.shape[2]):
-            acc += (buf[i, r, c] - point[c]) ** 2
-        if acc < best:
-            best, at = acc, r
-    out[:] = buf[i, at]
-
-
-def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
-                x: np.ndarray | None = None) -> np.ndarray:
-    """The mean of each member's last ``last`` buffered samples, and of ``x`` when given (M, D),
-    summed oldest first as ``np.mean`` of the list sums them."""
-    s = buf.shape[1]
-    n = np.minimum(count, last)
-    keep = (np.arange(s)[None, :] >= (s - n)[:, None])[:, :, None]
-    total = np.where(keep, buf, 0.0).sum(axis=1)
-    if x is not None:
-        total += x
-        n = n + 1
-    return total / n[:, None]
 
 
 @compiled(numba.boolean(_F1, _F1, _F1, _F1), *_CALLS_INTO)

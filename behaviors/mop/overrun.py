@@ -11,7 +11,7 @@ one dip, stopped it at sample 46: about 10 samples after the input left the path
 
 So the driving action is not shown valid while both hold (:func:`overruns`, for the best
 template, against the samples and followed states the tempo keeps,
-:meth:`~behaviors.mop.validity.Validity._remember_tempo`):
+:meth:`~behaviors.mop.follower_validity.Validity._remember_tempo`):
 
 - its followed progress covered less than :data:`PACE` of the input's displacement over the last
   :data:`PACE_SAMPLES` samples (path length against displacement, both in sigma at the size;

@@ -83,7 +83,7 @@ reach, coverage lowered where the path bends, arc the input went along):
 :mod:`behaviors.mop.coverage`.
 An action the input goes on past while its progress lags (the diagonal the figure eight's first
 stroke drives) is not shown valid: :mod:`behaviors.mop.overrun`
-(:meth:`~behaviors.mop.validity.Validity._overruns`).
+(:meth:`~behaviors.mop.follower_validity.Validity._overruns`).
 
 Misfit limits again, with the rules of :mod:`behaviors.mop.validity` and
 :mod:`behaviors.mop.invariance` in place (``bench/follow_quality.py --sections=sized,unrelated``,

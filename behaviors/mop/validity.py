@@ -2,7 +2,8 @@
 (not back before forward, carried before it holds, tempo, crawling, resting behind, not judged
 at rest, not weighed in a pause, not begun at a turn) and what was tried beside them. Refusal,
 path misfit and coverage: :mod:`behaviors.mop.refusal`; the input's turning:
-:mod:`behaviors.mop.turning`.
+:mod:`behaviors.mop.turning`; the samples a follower keeps for the tempo and the overrun:
+:mod:`behaviors.mop.follower_validity`.
 
 Not back before forward (:func:`backs_first`): an action that has not yet carried its
 performer forward (its progress never passed where it began driving by :data:`FORWARD_FIRST`)
@@ -236,7 +237,6 @@ import math
 
 import numpy as np
 
-from behaviors.mop import overrun
 from behaviors.mop.path_kernel import PATH_REACH   # (the path the input is measured against)
 
 #: An action that drives has carried its performer forward once its progress passed where it
@@ -406,48 +406,3 @@ def crawl_run(run: int, same: bool, slow: bool, hovers: bool) -> int:
     if slow:
         return run + 1 if same else 1
     return run if same and hovers and CRAWL_HOVERS and crawls(run) else 0
-
-
-class Validity:
-    """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: the tempo of a new action
-    (:func:`slow_take`)."""
-
-    def _slow_take(self, k: int, g: np.ndarray, x: np.ndarray) -> tuple[bool, bool]:
-        """Template ``k`` (followed states ``g``, bank index) is taken too slowly by sample ``x``
-        (:func:`slow_take`) against the oldest of the last :data:`TEMPO_SAMPLES` samples; and
-        whether the input hovers meanwhile (:func:`crawl_run`; not yet whether ``k`` drove)."""
-        if LEAST_TEMPO <= 0 or len(self._tempo_past) < TEMPO_SAMPLES:
-            return False, False
-        then, x0, _ = self._tempo_past[0]
-        r = (x - x0) / (self.bank.scale[k] * self._size[k])
-        moved = math.sqrt(float(np.mean(r * r)))
-        advance = float(g[k] - self.bank.starts[k] - then[k])
-        onset = self.onset * self.sigma
-        hovers = moved < onset and abs(advance) < LEAST_TEMPO * TEMPO_SAMPLES
-        return slow_take(advance, moved, onset), hovers
-
-    def _remember_tempo(self, states: np.ndarray, x: np.ndarray) -> None:
-        """Keep the followed ``states`` (K,), sample ``x`` and sizes of the last
-        :data:`TEMPO_SAMPLES`."""
-        self._tempo_past.append((states, x, self._size.copy()))
-        if len(self._tempo_past) > TEMPO_SAMPLES:
-            del self._tempo_past[0]
-
-    def _overruns(self, k: int, g: np.ndarray, x: np.ndarray) -> bool:
-        """Whether sample ``x`` runs on past template ``k``'s path while its progress lags
-        (:func:`behaviors.mop.overrun.overruns`; ``g``: followed states, bank index), against
-        the samples, followed states and sizes the tempo keeps (:meth:`_remember_tempo`);
-        with "scale" invariance only (where no size is estimated, a performance at another size
-        is off its path by its size: an "offset" member at 1.3x lost 16 of 59 valid ticks)."""
-        back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
-        if self.invariance != "scale" or len(self._tempo_past) < back:
-            return False
-        b = self.bank
-        lo = int(b.starts[k])
-        g_pace, x_pace, s_pace = self._tempo_past[-overrun.PACE_SAMPLES]
-        g_rise, x_rise, _ = self._tempo_past[-overrun.RISE_SAMPLES]
-        return bool(overrun.overruns(
-            b.means, self._arc, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
-            self._first_z[k], self._anchor, x, x_rise, x_pace, float(g[k] - lo),
-            float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
-            self.sigma ** 2 * self.dim, float(self.dim)))

@@ -25,6 +25,7 @@ from tabletop.drawing.palette import (EYE_WHITE, INK, TABLE, Color, fade, lighte
                                       rgb, shade)
 from tabletop.drawing.reading import Reading
 from tabletop.frames import CharacterState
+from tabletop.table_map import TableToScreen
 
 # Reactor body outline in units of its length, nose along +x (an egg, fuller at the front).
 _T = np.linspace(0.0, 2 * math.pi, 28, endpoint=False)
@@ -109,6 +110,27 @@ def _squash(pose: Pose) -> tuple[float, float, float, float]:
 # rasterised by one compiled call (tabletop.drawing.character_kernel) instead.
 _BODY_UV = np.ascontiguousarray(REACTOR_BODY, dtype=np.float64)
 _EYES_UV = np.ascontiguousarray(REACTOR_EYES, dtype=np.float64)
+
+
+def bodies(chars: Sequence[CharacterState], table: TableToScreen) -> list[pygame.Rect]:
+    """Where each character's body lies on the window (pixels; the studio's marks and broken
+    states left out): a figure's, face's or hybrid's points' bounds with its limbs' reach
+    (0.08 of its size), another's 0.55 of its size about its centre."""
+    out = []
+    for c in chars:
+        if c.kind == "studio" or not (math.isfinite(c.x) and math.isfinite(c.y)
+                                      and 0.0 < c.size < 100.0):
+            continue
+        figure = c.points is not None and len(c.points) > 0
+        reach = (0.08 if figure else 0.55) * c.size
+        xy = c.points if figure else ((c.x, c.y),)
+        px = table.points(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
+        px = px[np.isfinite(px).all(axis=1)]
+        if len(px):
+            pad = reach * table.scale_at(c.x, c.y) + 2
+            (x0, y0), (x1, y1) = px.min(axis=0) - pad, px.max(axis=0) + pad
+            out.append(pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1))
+    return out
 
 
 def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:

@@ -217,30 +217,42 @@ class SeeThrough:
 
 
 PANEL_PX = (20, 18, 16, 14, 13)     # the panel's font sizes, tried in turn in a small window
+# ... in a window up to this many pixels deep (its height, as the panel reads); in a deeper one
+# in proportion (a 1920x1080 projector's panel at 20 px was two thirds of its size at 1280x720)
+PANEL_DEEP = 720
+
+
+def panel_sizes(deep: int) -> tuple[int, ...]:
+    """:data:`PANEL_PX` for a window ``deep`` pixels deep (:data:`PANEL_DEEP`)."""
+    k = max(1.0, deep / PANEL_DEEP)
+    return tuple(int(round(p * k)) for p in PANEL_PX)
 
 
 def fitted_panel(lines: Sequence[str], width: int, height: int, px: int = PANEL_PX[0],
-                 keep: bool = True) -> tuple[pygame.Surface, int]:
+                 keep: bool = True, px_sizes: Sequence[int] = PANEL_PX
+                 ) -> tuple[pygame.Surface, int]:
     """:func:`panel` no taller than ``height`` pixels: in the first font size of
-    ``PANEL_PX`` from ``px`` (the size that fitted last time) whose panel fits, trying the next
-    larger one too when ``px`` fits (lines may have gone); in the smallest, the last lines give
-    way to a line saying how many are left out (the shipped config's 13 overlay lines make a
-    256 px panel at 20 px: in a 400x225 window its first lines, tick, fps and errors, would
-    stand above the window's top). Returns the panel and the font size used."""
-    sizes = [p for p in PANEL_PX if p <= px] or [PANEL_PX[-1]]
-    larger = [p for p in PANEL_PX if p > sizes[0]]
+    ``px_sizes`` (:func:`panel_sizes`) from ``px`` (the size that fitted last time) whose panel
+    fits, trying the next larger one too when ``px`` fits (lines may have gone); in the
+    smallest, the last lines give way to a line saying how many are left out (the shipped
+    config's 13 overlay lines make a 256 px panel at 20 px: in a 400x225 window its first
+    lines, tick, fps and errors, would stand above the window's top). Its margin is half the
+    largest size, at least 10 px. Returns the panel and the font size used."""
+    pad = max(10, px_sizes[0] // 2)
+    sizes = [p for p in px_sizes if p <= px] or [px_sizes[-1]]
+    larger = [p for p in px_sizes if p > sizes[0]]
     if larger:
-        up = panel(lines, larger[-1], width=width, keep=keep)
+        up = panel(lines, larger[-1], pad, width=width, keep=keep)
         if up.get_height() <= height:
             return up, larger[-1]
     for size in sizes:
-        img = panel(lines, size, width=width, keep=keep)
+        img = panel(lines, size, pad, width=width, keep=keep)
         if img.get_height() <= height:
             return img, size
-    size = PANEL_PX[-1]
+    size = px_sizes[-1]
     for n in range(len(lines) - 1, 0, -1):
         cut = [*lines[:n], f"... {len(lines) - n} more lines (a larger window shows them)"]
-        img = panel(cut, size, width=width, keep=keep)
+        img = panel(cut, size, pad, width=width, keep=keep)
         if img.get_height() <= height:
             break
     return img, size
@@ -269,14 +281,20 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     """One line centred on ``center``, at opacity ``alpha``, upright on the table as
     ``reading`` says (rendered and turned once per line, size, colour and reading: a breathing
     line costs a blit per frame, not a render)."""
+    img = _line(line, px, color, reading)
+    img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
+    surf.blit(img, reading.at(img.get_size(), center))
+
+
+def _line(line: str, px: int, color: Color, reading: Reading) -> pygame.Surface:
+    """:func:`words` turned by ``reading``, kept per line, size, colour and reading."""
     key = (line, px, color, reading)
     img = _lines.get(key)
     if img is None:
         if len(_lines) > 64:
             _lines.clear()
         img = _lines[key] = reading.turn(words(line, px, color))
-    img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
-    surf.blit(img, reading.at(img.get_size(), center))
+    return img
 
 
 def one_moment(surf: pygame.Surface, t: float, alpha: float,
@@ -354,7 +372,40 @@ def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
     c = (lo + hi) / 2
     b = 0.55 + 0.45 * math.sin(0.8 * t)
     text(surf, invitation, words or (c[0], c[1] + 0.3 * span[1]),
-         px or int(0.045 * span[1]) + 8, (200, 215, 240), alpha * b, reading)
+         px or int(0.045 * span[1]) + 8, INVITE_COLOR, alpha * b, reading)
+
+
+INVITE_COLOR = (200, 215, 240)
+# Where the idle invitation may stand (fractions of the table's width and depth, 0 the
+# reader's near edge), in order: between the table's centre and its near edge, nearer that edge,
+# to either side, at the far edge. A figure drawn 0.6 m tall (touch-pose) stood on the first,
+# its feet over "touch the table" (1280x720).
+INVITE_AT = ((0.5, 0.2), (0.5, 0.1), (0.25, 0.2), (0.75, 0.2), (0.5, 0.85))
+
+
+class InvitationPlace:
+    """Which of :data:`INVITE_AT` the invitation stands at: where it stood while that stays
+    clear of the characters' bodies, else the first place clear of them (the one over the
+    least of them when none is): the words do not jump about as a figure breathes."""
+
+    def __init__(self) -> None:
+        self.at = 0
+
+    def __call__(self, spots: Sequence[tuple[float, float]], line: str, px: int,
+                 reading: Reading, bodies: Sequence[pygame.Rect]) -> tuple[float, float]:
+        """The window pixel the invitation ``line`` (``px`` tall, read as ``reading``) is
+        centred on, of ``spots`` (pixels, in :data:`INVITE_AT`'s order), kept off
+        ``bodies`` (pixels)."""
+        if not line:
+            return spots[0]
+        size = _line(line, px, INVITE_COLOR, reading).get_size()
+
+        def over(i: int) -> int:
+            r = reading.at(size, spots[i])
+            return sum(r.clip(b).w * r.clip(b).h for b in bodies)
+        if self.at >= len(spots) or over(self.at):
+            self.at = min(range(len(spots)), key=lambda i: (over(i), i))
+        return spots[self.at]
 
 
 def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,

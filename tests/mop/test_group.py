@@ -11,7 +11,7 @@ import pytest
 from behaviors.mop import group_steps, members, shape_lead
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup, _new_state
-from behaviors.mop.validity import Validity
+from behaviors.mop.follower_validity import Validity
 from behaviors.mop.state import FollowState
 
 

@@ -6,7 +6,7 @@ import pytest
 
 from bench.follow_quality import puck_follower, run
 from bench.motions import gesture_templates, performance, unrelated_motions
-from behaviors.mop.validity import Validity
+from behaviors.mop.follower_validity import Validity
 
 from tests.mop.test_refusal import _group_as_alone
 

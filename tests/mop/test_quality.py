@@ -364,9 +364,9 @@ def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
     # (validity.slow_take): the triangle's stroke held in a template's turn, the wander hovering.
     # Measured: triangle 0.089 (0.172 without), wander 0.028 (0.053); nothing vetoed as an
     # overrun (overrun.overruns takes these ticks too)
-    from behaviors.mop import validity
+    from behaviors.mop import follower_validity, validity
 
-    monkeypatch.setattr(validity.Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(follower_validity.Validity, "_overruns", lambda self, k, g, x: False)
     now = _crawl_shares(gestures)
     monkeypatch.setattr(validity, "LEAST_TEMPO", 0.0)
     plain = _crawl_shares(gestures)

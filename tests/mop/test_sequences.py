@@ -8,7 +8,7 @@ import pytest
 from behaviors.mop import handover, shape_lead, spotting
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
-from behaviors.mop.validity import Validity
+from behaviors.mop.follower_validity import Validity
 from bench.follow_sequences import wrong_valid
 from bench.motions import MOCAP, back_to_back, gesture_templates, mocap_templates
 

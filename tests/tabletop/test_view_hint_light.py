@@ -40,3 +40,18 @@ def test_a_hinted_pose_over_the_glow_only_adds_light():
     # 36 darker (of 765) along its limbs and pupils; now it only adds (rounding: at most 3)
     assert diff.min() >= -3
     assert (diff > 30).sum() > 300     # and it shows: a faint pose, not nothing
+
+
+def test_added_light_adds_and_leaves_its_scratch_black():
+    from tabletop.drawing.light import AddedLight
+    light = AddedLight()
+    s = pygame.Surface((200, 100))
+    s.fill((40, 40, 50))
+    r = light.add(s, lambda k: pygame.draw.circle(k, (100, 60, 20), (50, 50), 20))
+    got = rgb(s).astype(int)
+    assert r.w == 40 and got[50, 50].tolist() == [140, 100, 70]    # added onto the ground
+    assert got[50, 150].tolist() == [40, 40, 50]
+    # the next light drawn elsewhere does not carry the first along
+    light.add(s, lambda k: pygame.draw.circle(k, (10, 10, 10), (150, 50), 20))
+    again = rgb(s).astype(int)
+    assert again[50, 50].tolist() == [140, 100, 70] and again[50, 150].tolist() == [50, 50, 60]

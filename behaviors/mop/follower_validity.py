@@ -1,0 +1,60 @@
+"""The follower's memory for its validity rules (:mod:`behaviors.mop.validity`): the followed
+states, samples and sizes of the last :data:`~behaviors.mop.validity.TEMPO_SAMPLES`, and the
+two rules read from them, the tempo of a new action and the input running on past a template's
+path while its progress lags (:mod:`behaviors.mop.overrun`). A follower group applies the same
+rules to its members, compiled, in :mod:`behaviors.mop.member_validity`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from behaviors.mop import overrun, validity
+
+
+class Validity:
+    """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: the tempo of a new action
+    (:func:`~behaviors.mop.validity.slow_take`) and the overrun of its path."""
+
+    def _slow_take(self, k: int, g: np.ndarray, x: np.ndarray) -> tuple[bool, bool]:
+        """Template ``k`` (followed states ``g``, bank index) is taken too slowly by sample ``x``
+        (:func:`~behaviors.mop.validity.slow_take`) against the oldest of the last
+        :data:`~behaviors.mop.validity.TEMPO_SAMPLES` samples; and whether the input hovers
+        meanwhile (:func:`~behaviors.mop.validity.crawl_run`; not yet whether ``k`` drove)."""
+        if validity.LEAST_TEMPO <= 0 or len(self._tempo_past) < validity.TEMPO_SAMPLES:
+            return False, False
+        then, x0, _ = self._tempo_past[0]
+        r = (x - x0) / (self.bank.scale[k] * self._size[k])
+        moved = math.sqrt(float(np.mean(r * r)))
+        advance = float(g[k] - self.bank.starts[k] - then[k])
+        onset = self.onset * self.sigma
+        hovers = moved < onset and abs(advance) < validity.LEAST_TEMPO * validity.TEMPO_SAMPLES
+        return validity.slow_take(advance, moved, onset), hovers
+
+    def _remember_tempo(self, states: np.ndarray, x: np.ndarray) -> None:
+        """Keep the followed ``states`` (K,), sample ``x`` and sizes of the last
+        :data:`~behaviors.mop.validity.TEMPO_SAMPLES`."""
+        self._tempo_past.append((states, x, self._size.copy()))
+        if len(self._tempo_past) > validity.TEMPO_SAMPLES:
+            del self._tempo_past[0]
+
+    def _overruns(self, k: int, g: np.ndarray, x: np.ndarray) -> bool:
+        """Whether sample ``x`` runs on past template ``k``'s path while its progress lags
+        (:func:`behaviors.mop.overrun.overruns`; ``g``: followed states, bank index), against
+        the samples, followed states and sizes the tempo keeps (:meth:`_remember_tempo`);
+        with "scale" invariance only (where no size is estimated, a performance at another size
+        is off its path by its size: an "offset" member at 1.3x lost 16 of 59 valid ticks)."""
+        back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
+        if self.invariance != "scale" or len(self._tempo_past) < back:
+            return False
+        b = self.bank
+        lo = int(b.starts[k])
+        g_pace, x_pace, s_pace = self._tempo_past[-overrun.PACE_SAMPLES]
+        g_rise, x_rise, _ = self._tempo_past[-overrun.RISE_SAMPLES]
+        return bool(overrun.overruns(
+            b.means, self._arc, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+            self._first_z[k], self._anchor, x, x_rise, x_pace, float(g[k] - lo),
+            float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
+            self.sigma ** 2 * self.dim, float(self.dim)))
