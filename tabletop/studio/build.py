@@ -162,6 +162,7 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
     studio = Studio(targets, s["countdown_s"], log_try=session.log_try,
                     quiet=not all_engines)
     studio.session = session
+    studio.save_take = session.save_take
     ids = dict(s["markers"])
     for t in targets:       # an engine's own record marker (designer.record_marker)
         if getattr(t, "record_marker", None) is not None:

@@ -39,6 +39,7 @@ class Bench:
         self.session = SessionLog(tmp_path / "studio", review=review)
         self.studio = Studio(targets or [PuppetMasterTarget(e) for e in engines], countdown_s=0.0,
                              log_try=self.session.log_try)
+        self.studio.save_take = self.session.save_take     # as tabletop.studio.build does
 
     def step(self, frame):
         f = self.studio(frame)
