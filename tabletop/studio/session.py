@@ -168,10 +168,18 @@ class SessionLog:
             self.folder.mkdir(parents=True, exist_ok=True)
             atomic_write_text(path, text)
         except OSError as exc:
-            log.warning("studio: the take tried was not saved: %s: %s",
-                        getattr(exc, "filename", None) or path, exc.strerror or exc)
+            log.warning("studio: the take tried was not saved: %s", self._why(exc, path))
             return ""
         return str(path)
+
+    def _why(self, exc: OSError, path: Path) -> str:
+        """Why ``path`` beside the log was not written: a file standing where the folder
+        would be is named (the system said "File exists"), else the system's reason."""
+        from tabletop.files import file_on_path
+        blocker = file_on_path(self.folder)
+        if blocker is not None:
+            return f"{blocker} is a file, not a folder"
+        return f"{getattr(exc, 'filename', None) or path}: {exc.strerror or exc}"
 
     def _names(self) -> list[str]:
         return [p.name for p in self.folder.glob(self.path.with_suffix("").name + "-try*.png")] \
@@ -191,7 +199,7 @@ class SessionLog:
                 f.flush()
                 os.fsync(f.fileno())
         except OSError as exc:   # (a disk full or gone): one line while it lasts, no traceback
-            why = f"{getattr(exc, 'filename', None) or self.path}: {exc.strerror or exc}"
+            why = self._why(exc, self.path)
             if why != self.failing:
                 log.warning("studio: session log not written: %s", why)
             self.failing = why
@@ -205,6 +213,8 @@ class SessionLog:
         try:
             review_sheet(what, demo, path, title=f"{t.target}: {t.outcome} {t.name}".strip(),
                          params=params)
+        except OSError as exc:     # where the log is said too: one line, no traceback
+            log.warning("review sheet %s not drawn: %s", path.name, self._why(exc, path))
         except Exception:  # a review sheet is a convenience: never stop the studio
             log.exception("review sheet %s not drawn", path)
 
