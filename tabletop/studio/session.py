@@ -127,6 +127,22 @@ def unusable(folder: Path) -> str:
     return ""
 
 
+def left_at_quit(folder: Path) -> Path | None:
+    """The take the latest session log in ``folder`` names as tried and not kept at quit (its
+    last line's ``take``), while that file is there; None otherwise (or unreadable)."""
+    try:
+        logs = sorted(Path(folder).glob("session-*.jsonl"))
+        lines = logs[-1].read_text(encoding="utf-8").split("\n") if logs else []
+        last = json.loads(next(x for x in reversed(lines) if x.strip())) if lines else None
+    except (OSError, ValueError, StopIteration, UnicodeDecodeError):
+        return None
+    if not isinstance(last, dict) or last.get("outcome") != "quit" or \
+            not isinstance(last.get("take"), str) or not last["take"]:
+        return None
+    take = logs[-1].parent / Path(last["take"]).name
+    return take if take.is_file() else None
+
+
 class SessionLog:
     def __init__(self, folder: Path, review: bool = True) -> None:
         self.folder = Path(folder)
