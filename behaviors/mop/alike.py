@@ -24,6 +24,12 @@ import numpy as np
 
 #: Samples of B an A sample may move the alignment on by (0: B waits, 2: B runs twice as fast).
 MAX_STEP = 2
+#: Samples of A measured at once (memory: CHUNK x len(B) x columns floats).
+CHUNK = 64
+#: Samples of a template measured at most (a longer one is taken every k-th sample): the
+#: measure is O(len(A) x len(B)); two 8,000-sample templates took 14 s each way on a loaded
+#: machine. The example gestures have 47-74.
+MAX_SAMPLES = 400
 
 
 def _misfit(a: np.ndarray, b: np.ndarray, center: np.ndarray, scale: np.ndarray,
@@ -32,16 +38,24 @@ def _misfit(a: np.ndarray, b: np.ndarray, center: np.ndarray, scale: np.ndarray,
     from b's: each from its nearest (``aligned`` False, a lower bound) or along the best
     monotone alignment."""
     za, zb = (a - center) / scale, (b - center) / scale
-    cost = np.sum((za[:, None, :] - zb[None, :, :]) ** 2, axis=2) / za.shape[1]
+
+    def cost(rows: slice) -> np.ndarray:   # (rows, len(b)): a few rows at a time, so two
+        # long templates (10,000 samples each) never hold their whole table at once
+        return np.sum((za[rows, None, :] - zb[None, :, :]) ** 2, axis=2) / za.shape[1]
     if not aligned:
-        return float(np.sqrt(np.mean(cost.min(axis=1)))) / sigma
+        near = np.concatenate([cost(slice(i, i + CHUNK)).min(axis=1)
+                               for i in range(0, len(za), CHUNK)])
+        return float(np.sqrt(np.mean(near))) / sigma
     total = np.full(len(zb), np.inf)
-    total[0] = cost[0, 0]
-    for row in cost[1:]:
-        best = total.copy()
-        for step in range(1, MAX_STEP + 1):
-            np.minimum(best[step:], total[:-step], out=best[step:])
-        total = best + row
+    for i in range(0, len(za), CHUNK):
+        for k, row in enumerate(cost(slice(i, i + CHUNK))):
+            if i + k == 0:
+                total[0] = row[0]
+                continue
+            best = total.copy()
+            for step in range(1, MAX_STEP + 1):
+                np.minimum(best[step:], total[:-step], out=best[step:])
+            total = best + row
     return float(np.sqrt(total[-1] / len(za))) / sigma
 
 
@@ -66,8 +80,9 @@ def alike(templates: dict[str, np.ndarray], bank, sigma: float, limit: float,
     ``invariance`` sees them."""
     names = list(templates)
     out = []
+    thin = {k: v[::-(-len(v) // MAX_SAMPLES)] for k, v in templates.items()}
     for i, j in itertools.combinations(range(len(names)), 2):
-        a, b = templates[names[i]], templates[names[j]]
+        a, b = thin[names[i]], thin[names[j]]
         a_on_b, b_on_a = _carried(a, b, invariance), _carried(b, a, invariance)
         near = []
         for aligned in (False, True):   # the cheap bound first: most pairs end there
