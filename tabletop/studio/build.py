@@ -167,7 +167,8 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
     studio = Studio(targets, s["countdown_s"], log_try=session.log_try,
                     quiet=not all_engines)
     studio.session = session
-    studio.save_take = session.save_take
+    # a replay's studio folder is a temporary one: the take was saved by the run it replays
+    studio.save_take = None if replay else session.save_take
     if left is not None:     # the designer's work the last session left: where it is
         said = (f"studio: the last session's take tried at quit is in "
                 f"{named_folder(left.parent, base)}{left.name} (not in the library)")

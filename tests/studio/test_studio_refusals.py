@@ -294,17 +294,18 @@ def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_pa
                          cwd=ROOT, timeout=120).stderr
     assert said in err, err
 
-    def started():
+    def started(replay=False):
         config = validate_config({"sources": [{"kind": "scripted"}], "engines": [
             {"kind": "puppet_master", "name": "pet", "designer": {
                 "enabled": True, "library": str(tmp_path / "lib")}}],
-            "studio": {"review": False}}, "test.yaml", tmp_path)
+            "studio": {"review": False, "countdown_s": 0}}, "test.yaml", tmp_path)
         q = CommandQueue()
         view = ProjectorView(TABLE, dict(config["view"], size=[320, 180]), commands=q,
                              headless=True)
         loop = Loop(FrameInputs(iter(()), honour_times=False), designer(tmp_path), [view],
                     commands=q, paced=False)
-        return view, attach_studio(types.SimpleNamespace(loop=loop), config, tmp_path)
+        return view, attach_studio(types.SimpleNamespace(loop=loop), config, tmp_path,
+                                   replay=replay)
     view, studio = started()
     demo = designers.demonstrate("lover", seed=3, seconds=8)
     notices = []
@@ -320,3 +321,13 @@ def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_pa
     take.unlink()                                   # taken away: not said
     view, studio = started()
     assert [n for fn in view.notices for n in fn()] == []
+    # a replay's studio (in a temporary folder) neither says it nor saves the take again
+    view, studio = started(replay=True)
+    assert [n for fn in view.notices for n in fn()] == []
+    for i, row in enumerate(demo):
+        studio(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                     commands=("designer.record",) if i in (40, len(demo) - 1) else ()))
+    assert studio.state == "trying"
+    studio.close()
+    assert studio.tries[-1].outcome == "quit" and studio.tries[-1].take == ""
+    assert not list(studio_dir.glob("*-take*")), list(studio_dir.iterdir())
