@@ -209,7 +209,22 @@ def load_config(path: str | Path, start_without: bool = False) -> Config:
     (:class:`~tabletop.schema.Context`)."""
     p = Path(path)
     data = read_yaml(p, ConfigError, missing="config file not found")
+    _no_library_file(data, p)
     return validate_config(data, str(p), p.resolve().parent, start_without)
+
+
+def _no_library_file(data: Any, p: Path) -> None:
+    """A library's file given as the config (a behaviour's behavior.yaml, a MOP character's
+    actions.yaml) is said to be one, with where it goes, not "format: unknown key"."""
+    from tabletop import library
+    if not isinstance(data, dict):
+        return
+    if data.get("format") == library.FORMAT:
+        raise ConfigError(f"{p}: a behaviour's {library.BEHAVIOR_FILE}, not a config; an "
+                          f"engine plays its folder (behavior: {p.parent})")
+    if "actions" in data and not data.keys() & {"sources", "engines"}:
+        raise ConfigError(f"{p}: a MOP character's actions file (LIBRARY/CHARACTER/"
+                          "actions.yaml of a mop engine's library: FOLDER), not a config")
 
 
 def validate_config(data: Any, file: str = "<config>", base: Path | None = None,

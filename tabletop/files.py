@@ -75,6 +75,9 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
     if first is None:
         raise FileFormatError(f"{p}: {what} is empty (expected a header row)")
     header = [c.strip() for c in rows[first]]
+    if header[0][:1] in ("{", "["):     # (its commas made a header of the data's pieces)
+        raise FileFormatError(f"{p}: line {first + 1}: JSON, not a {what} (a CSV whose first "
+                              "row names its columns)")
     if any(not c for c in header):
         raise FileFormatError(f"{p}: line {first + 1}: empty column name in header {header}")
     dup = sorted({c for c in header if header.count(c) > 1})

@@ -23,7 +23,7 @@ import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 import yaml
@@ -183,11 +183,18 @@ def parameter_refused(stored: StoredBehavior, exc: Exception,
     """Training's refusal ``exc`` of a parameter ``stored``'s behavior.yaml gives (not one of
     ``overridden``, set by the config), said at its key: ``FOLDER/behavior.yaml:
     parameters.NAME: ...``; None for any other refusal."""
+    return refused_at_key(stored.folder, stored.parameters, exc, overridden)
+
+
+def refused_at_key(folder: Path, parameters: Mapping[str, Any], exc: Exception,
+                   overridden: Iterable[str] = ()) -> str | None:
+    """:func:`parameter_refused` of the behaviour in ``folder`` whose behavior.yaml gives
+    ``parameters``."""
     name = getattr(exc, "name", None)
-    if name is None or name not in stored.parameters or name in overridden:
+    if name is None or name not in parameters or name in overridden:
         return None
     said = str(exc).removeprefix(f"behaviour parameter {name}: ")
-    return f"{stored.folder / BEHAVIOR_FILE}: parameters.{name}: {said}"
+    return f"{Path(folder) / BEHAVIOR_FILE}: parameters.{name}: {said}"
 
 
 def _check_parameter_names(parameters: Mapping[str, Any], path: Path) -> None:

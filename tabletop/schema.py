@@ -7,6 +7,7 @@ right. Validation is strict: unknown keys, wrong types and out-of-range values a
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
 from dataclasses import dataclass, field
@@ -309,7 +310,10 @@ class Record(Spec):
         for key in value:
             if key not in self.fields:
                 known = ", ".join(sorted(self.fields)) or "none"
-                raise ctx.error(_join(path, str(key)), f"unknown key (known keys here: {known})")
+                close = difflib.get_close_matches(str(key), sorted(self.fields), n=1)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                raise ctx.error(_join(path, str(key)),
+                                f"unknown key (known keys here: {known}){hint}")
         for key, spec in self.fields.items():
             sub = _join(path, key)
             if key in value:

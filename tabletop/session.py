@@ -356,6 +356,10 @@ def read_header(path: str | Path) -> dict[str, Any]:
     except SessionError as exc:
         raise SessionError(f"{exc} (expected a {FORMAT} header)") from None
     if not isinstance(header, dict) or header.get("format") != FORMAT:
+        if isinstance(header, dict) and {"target", "outcome"} <= header.keys():
+            raise SessionError(f"{p}: a studio session log (its tries: `tabletop review` "
+                               "draws them), not a session recording (`tabletop run "
+                               "--record FILE` makes one)")
         raise SessionError(f"{p}: line 1: not a {FORMAT} header")
     if header.get("version") not in READABLE:
         raise SessionError(f"{p}: line 1: version {header.get('version')!r} is not supported "

@@ -17,6 +17,7 @@ engine is never imported.
 
 from __future__ import annotations
 
+import difflib
 import importlib.util
 import json
 from pathlib import Path
@@ -78,8 +79,11 @@ def motion_path(name: str) -> Path:
             return p
     known = sorted(p.name[len("humanoid3d_"):-len(".txt")]
                    for p in folder.glob("humanoid3d_*.txt"))   # (a misspelt name: the right one)
+    short = Path(name).name.removesuffix(".txt").removeprefix("humanoid3d_")
+    close = difflib.get_close_matches(short, known, n=1)
+    hint = f"did you mean {close[0]!r}? " if close else ""
     raise ClipError(f"{folder / name}: DeepMimic clip not found (looked for {name!r}, "
-                    f"{name}.txt and humanoid3d_{name}.txt; the clips: {', '.join(known)})")
+                    f"{name}.txt and humanoid3d_{name}.txt); {hint}the clips: {', '.join(known)}")
 
 
 def parse_motion(data: object, where: str, name: str | None = None) -> Clip:

@@ -309,6 +309,7 @@ def main(args: argparse.Namespace) -> int:
     from behaviors.puppet_master.engine import Behavior, ParameterError
     from behaviors.puppet_master.fidelity import generate
     from behaviors.puppet_master.params import Params
+    from tabletop import library
     from tabletop.files import write_csv
 
     rate = parse_rate(args.rate if args.rate is not None else "40")
@@ -333,10 +334,15 @@ def main(args: argparse.Namespace) -> int:
     check_metres(main_rows[:, 1:3], args.input, "main path")
     check_metres(demo[:, [1, 2]], source, "demonstration's main")
     check_metres(demo[:, [4, 5]], source, "demonstration's reactor")
+    folder = Path(source) if args.train is not None and Path(source).is_dir() else None
+
     def refused(exc: ParameterError) -> BehaveArgumentError:
-        """A parameter out of range, named by where it was given: --param or the folder."""
-        given = exc.name is not None and exc.name in parse_params(args.param)
-        return BehaveArgumentError(f"{'--param' if given else source}: {exc}")
+        """A parameter out of range, named by where it was given: --param, or the folder's
+        behavior.yaml at its key."""
+        if exc.name is not None and exc.name in parse_params(args.param):
+            return BehaveArgumentError(f"--param: {exc}")
+        said = folder and library.refused_at_key(folder, stored, exc, given)
+        return BehaveArgumentError(said or f"{source}: {exc}")
 
     try:   # the rate before the rows it asks for (rate_hz=inf was said as the main path's)
         Params(rate_hz=params["rate_hz"]).check()
@@ -353,9 +359,11 @@ def main(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         raise refused(exc) from None
     except InputError as exc:   # a need set by --param (a window too long) names it first
-        named = [f"--param {n}" for n in getattr(exc, "params", ())
-                 if n in parse_params(args.param)]
-        raise BehaveArgumentError(f"{', '.join(named + [source])}: {exc}") from None
+        needs = getattr(exc, "params", ())
+        named = [f"--param {n}" for n in needs if n in parse_params(args.param)]
+        keys = [f"parameters.{n}" for n in needs if folder and n in stored and n not in given]
+        where = f"{folder / library.BEHAVIOR_FILE}: {', '.join(keys)}" if keys else source
+        raise BehaveArgumentError(f"{', '.join(named + [where])}: {exc}") from None
     if table is None:
         table = behavior.bounds
         if table[2] <= table[0] or table[3] <= table[1]:

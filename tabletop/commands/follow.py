@@ -122,6 +122,27 @@ def warn_templates(templates: dict, paths: dict) -> None:
                   "while it is performed", file=sys.stderr)
 
 
+def warn_alike(templates: dict, paths: dict, follower) -> None:
+    """One stderr line per pair of different templates whose paths lie within the path
+    misfit's acceptance of each other (:mod:`behaviors.mop.alike`): the same gesture recorded
+    twice, which was followed without a word, each taking part of the probability."""
+    import sys
+
+    import numpy as np
+
+    from behaviors.mop.alike import alike
+    limit = follower.shape_accept
+    for a, b, ab, ba in alike(templates, follower.bank, follower.sigma, limit,
+                              follower.invariance):
+        if templates[a].shape == templates[b].shape and np.array_equal(templates[a],
+                                                                       templates[b]):
+            continue                    # said as the same samples
+        print(f"tabletop follow: warning: templates {a!r} ({paths[a]}) and {b!r} "
+              f"({paths[b]}) are alike: performed as recorded, each lies on the other's path "
+              f"({ab:.2f} and {ba:.2f} sigma from it; a path is accepted within {limit:g}): "
+              "the follower can hardly tell them apart", file=sys.stderr)
+
+
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -178,6 +199,7 @@ def main(args: argparse.Namespace) -> int:
     follower = ActionFollower(templates, sigma=sigma, window=window,
                               invariance=args.invariance,
                               still_scale=still_scale(templates))
+    warn_alike(templates, dict(pairs), follower)
     out_header = ["t", "best", "progress", "variance"]
     for name in templates:
         out_header += [f"p_{name}", f"progress_{name}"]

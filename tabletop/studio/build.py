@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import time
 from pathlib import Path
@@ -11,13 +12,16 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 from behaviors.worker import FINISH_S
 from tabletop import library
 from tabletop.frames import Frame
+from tabletop.studio.folders import named_folder
 from tabletop.studio.machine import Studio
-from tabletop.studio.session import SessionLog
+from tabletop.studio.session import SessionLog, left_at_quit
 from tabletop.studio.mop_target import MopTarget
 from tabletop.studio.pose_target import TouchPoseTarget
 from tabletop.studio.reloader import LibraryReloads, RecordedLibraries
 from tabletop.studio.take import Target
 from tabletop.studio.targets import PuppetMasterTarget
+
+log = logging.getLogger("tabletop")
 
 if TYPE_CHECKING:
     from tabletop.app import Installation
@@ -158,10 +162,21 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
     s = cfg["studio"]
     targets = studio_targets(inst.loop.engines, cfg, base, all_engines)
     folder = Path(s["folder"] or base / "studio")
+    left = None if replay else left_at_quit(folder)      # (before this session's log)
     session = SessionLog(folder, review=s["review"] and not replay)
     studio = Studio(targets, s["countdown_s"], log_try=session.log_try,
                     quiet=not all_engines)
     studio.session = session
+    # a replay's studio folder is a temporary one: the take was saved by the run it replays
+    studio.save_take = None if replay else session.save_take
+    if left is not None:     # the designer's work the last session left: where it is
+        said = (f"studio: the last session's take tried at quit is in "
+                f"{named_folder(left.parent, base)}{left.name} (not in the library)")
+        log.info("%s", said)
+        for sink in inst.loop.sinks:     # on the operator overlay until the next take
+            if hasattr(sink, "notices"):  # (not the studio's line: a replay makes that again)
+                sink.notices.append(lambda: [said] if studio.state == "idle" and not
+                                    studio.tries else [])
     ids = dict(s["markers"])
     for t in targets:       # an engine's own record marker (designer.record_marker)
         if getattr(t, "record_marker", None) is not None:

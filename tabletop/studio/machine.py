@@ -44,6 +44,7 @@ import dataclasses
 import logging
 import math
 import time
+from pathlib import Path
 from typing import Callable, Sequence
 
 from tabletop.frames import CharacterState, Frame, InputError
@@ -68,6 +69,8 @@ class Studio(LibraryCommands):
         self.targets = {t.name: t for t in targets}
         self.order = [t.name for t in targets]
         self.countdown_s, self.log_try = countdown_s, log_try
+        # saves a take tried at quit, (suffix, text) -> the file written (a SessionLog's)
+        self.save_take: Callable[[str, str], str] | None = None
         self.state = "idle"
         self.selected: str | None = self.order[0] if self.order else None
         self.until = 0.0             # countdown end (frame time)
@@ -333,12 +336,34 @@ class Studio(LibraryCommands):
 
     def close(self) -> None:
         """The studio stops (Esc, the end of a run): a take under way is dropped, and one tried
-        (or training) is logged with outcome "quit", so the session log still shows it."""
+        (or training) is logged with outcome "quit", so the session log still shows it, and
+        saved beside it (:meth:`SessionLog.save_take
+        <tabletop.studio.session.SessionLog.save_take>`, not in the library: nothing loads it),
+        named in the log and on the overlay."""
         if self.state == "idle":
             return
         left, tried = self.selected, self.state in ("trying", "training")
+        saved = ""
+        if tried and self._try is not None and self.save_take is not None:
+            saved = self._save_tried(self.target)
+            self._try.take = Path(saved).name if saved else ""
         self._drop("quit" if tried else "")
-        log.info("studio: %s: take %s at quit", left, "tried, not kept," if tried else "cancelled")
+        said = f"; saved as {saved} (not in the library)" if saved else ""
+        if tried:       # on the overlay while a kiosk's applied config edit rebuilds
+            self._show(f"{left}: take tried, not kept{said}", MESSAGE_S)
+        log.info("studio: %s: take %s at quit%s", left,
+                 "tried, not kept," if tried else "cancelled", said)
+
+    def _save_tried(self, target: Target | None) -> str:
+        """The take ``target`` tries, saved by :attr:`save_take`: its file, or "" (none, or
+        not written: said in the log)."""
+        fn = getattr(target, "tried_take", None)
+        try:
+            made = fn() if fn is not None else None
+            return self.save_take(*made) if made is not None and self.save_take else ""
+        except Exception:     # (a disk full): the quit goes on, the take's log line says none
+            log.exception("studio: the take tried was not saved")
+            return ""
 
     # --- what the view draws ----------------------------------------------------------------------
 

@@ -174,6 +174,18 @@ class MopTarget(RunOnlyTakes):
         return (f"; {self.stage.take_action} is too like {self._like}: MOP cannot tell them "
                 "apart (K keeps it anyway)")
 
+    def tried_take(self) -> tuple[str, str] | None:
+        """The take being tried as its keep saves its template: (".csv", ``t`` and the
+        performer's feature columns at the engine's rate); None without one."""
+        take = self.stage.take
+        if take is None or take.character != self.character or take.recording:
+            return None
+        from tabletop.files import format_csv
+        samples = np.asarray(take.samples(), dtype=float)
+        t = np.arange(len(samples)) / self.stage.rate_hz
+        names = self.stage.performers[take.performer].names
+        return ".csv", format_csv(("t",) + tuple(names), np.column_stack([t, samples]).tolist())
+
     def take_array(self) -> np.ndarray:
         take = self.stage.take
         return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))

@@ -156,6 +156,14 @@ class TouchPoseTarget:
         """The path to drag to try the take (table metres), from where its part is now."""
         return None if self.pending is None else self.core.stroke_on_table(self.pending)
 
+    def tried_take(self) -> tuple[str, str] | None:
+        """The take being tried as its keep saves it: (".json", the ``action.json`` of
+        :func:`behaviors.touch_pose.designed.save_action`); None without one."""
+        if self.pending is None or not self.times:
+            return None
+        a = self.pending
+        return ".json", designed.to_json(a.name, a.spec.part, np.array(self.times), self.poses)
+
     def revert(self) -> None:
         self.core.recognising = True
         if self.worker is not None:

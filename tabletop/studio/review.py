@@ -10,6 +10,7 @@ side and the front beside its distance from the start over time. Units: metres, 
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -170,6 +171,21 @@ def _a_recording(line: str) -> bool:
     return isinstance(d, dict) and d.get("format") == "tabletop-session"
 
 
+#: The files the studio writes beside its session log ``session-STAMP.jsonl``: a try's review
+#: sheet, a take tried at quit (:meth:`tabletop.studio.session.SessionLog.save_take`).
+_BESIDE = re.compile(r"^(session-[0-9-]+)-(try[0-9]+\.png|take[0-9]+\.(csv|json))$")
+
+
+def _beside_a_log(p: Path) -> str:
+    """What a file the studio writes beside its session log is, and the log to give ("" for
+    any other file)."""
+    m = _BESIDE.match(p.name)
+    if m is None:
+        return ""
+    what = "a try's review sheet" if m.group(2).startswith("try") else "a take saved at quit"
+    return f"{what}, not a studio session log; its log is {p.with_name(m.group(1) + '.jsonl')}"
+
+
 def read_session(path: Path) -> list[dict]:
     """The tries of a session log, a kept take under the name a later rename gave it and with
     the outcome a later undo, delete or restore gave it (:data:`CHANGES`; those lines are no
@@ -196,6 +212,8 @@ def read_session(path: Path) -> list[dict]:
             if i == 1 and _a_recording(line):
                 raise InputError(f"{p}: a session recording (`tabletop replay` plays it), not "
                                  "a studio session log") from None
+            if i == 1 and _beside_a_log(p):
+                raise InputError(f"{p}: {_beside_a_log(p)}") from None
             if i == len(lines) and not text.endswith("\n"):   # written only in part
                 break
             raise InputError(f"{p}:{i}: not a session log line ({exc})") from None

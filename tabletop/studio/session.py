@@ -2,13 +2,14 @@
 
 ``<folder>/session-YYYYmmdd-HHMMSS.jsonl``: each line ``{"target", "what", "time" (UTC ISO),
 "duration_s", "samples", "training_s", "outcome" (kept | discarded | redone | too short |
-refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG
-file name, or "")}``; a library item renamed (F2, or its undo) is a line of its own, outcome
-"renamed", ``name`` the new name and ``renamed_from`` the old (the reader gives a take kept
-earlier the name its folder has); so are a keep undone (U after K, outcome "keep undone"), an
-item deleted (Delete, "deleted") and its undo ("restored"), ``name`` the item's name (the reader
-gives the take kept under that name the outcome: a take undone or deleted is not counted kept,
-one restored is again). Each line is written, flushed and fsynced on its own, so a power cut
+refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG file
+name, or ""), "take" (a quit's only: the file beside the log its take was saved in,
+:meth:`SessionLog.save_take`)}``; a library item renamed (F2, or its undo) is a line of its own,
+outcome "renamed", ``name`` the new name and ``renamed_from`` the old (the reader gives a take
+kept earlier the name its folder has); so are a keep undone (U after K, outcome "keep undone"),
+an item deleted (Delete, "deleted") and its undo ("restored"), ``name`` the item's name (the
+reader gives the take kept under that name the outcome: a take undone or deleted is not counted
+kept, one restored is again). Each line is written, flushed and fsynced on its own, so a power cut
 loses at most the line being written. Review sheets are drawn in a background
 thread (one at a time; a try arriving while one is drawn gets none): one thread for the whole
 process, because matplotlib keeps each font open once per thread that draws (up to 64): a
@@ -126,6 +127,22 @@ def unusable(folder: Path) -> str:
     return ""
 
 
+def left_at_quit(folder: Path) -> Path | None:
+    """The take the latest session log in ``folder`` names as tried and not kept at quit (its
+    last line's ``take``), while that file is there; None otherwise (or unreadable)."""
+    try:
+        logs = sorted(Path(folder).glob("session-*.jsonl"))
+        lines = logs[-1].read_text(encoding="utf-8").split("\n") if logs else []
+        last = json.loads(next(x for x in reversed(lines) if x.strip())) if lines else None
+    except (OSError, ValueError, StopIteration, UnicodeDecodeError):
+        return None
+    if not isinstance(last, dict) or last.get("outcome") != "quit" or \
+            not isinstance(last.get("take"), str) or not last["take"]:
+        return None
+    take = logs[-1].parent / Path(last["take"]).name
+    return take if take.is_file() else None
+
+
 class SessionLog:
     def __init__(self, folder: Path, review: bool = True) -> None:
         self.folder = Path(folder)
@@ -155,14 +172,40 @@ class SessionLog:
             self._drawn = draw_later(lambda: self._draw(what, demo, t, path, params))
         self._append(t)
 
+    def save_take(self, suffix: str, text: str) -> str:
+        """A take tried and not kept at quit, written atomically beside the log as
+        ``session-STAMP-takeNNN`` + ``suffix`` (NNN: the log line that names it): its path,
+        or "" when it could not be written (said in the log). Not in any library: nothing
+        loads it; a designer gets it back from there."""
+        from tabletop.files import atomic_write_text
+        path = self.folder / (self.path.with_suffix("").name + f"-take{self.lines + 1:03d}"
+                              + suffix)
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            atomic_write_text(path, text)
+        except OSError as exc:
+            log.warning("studio: the take tried was not saved: %s", self._why(exc, path))
+            return ""
+        return str(path)
+
+    def _why(self, exc: OSError, path: Path) -> str:
+        """Why ``path`` beside the log was not written: a file standing where the folder
+        would be is named (the system said "File exists"), else the system's reason."""
+        from tabletop.files import file_on_path
+        blocker = file_on_path(self.folder)
+        if blocker is not None:
+            return f"{blocker} is a file, not a folder"
+        return f"{getattr(exc, 'filename', None) or path}: {exc.strerror or exc}"
+
     def _names(self) -> list[str]:
         return [p.name for p in self.folder.glob(self.path.with_suffix("").name + "-try*.png")] \
             if self.folder.is_dir() else []
 
     def _append(self, t: Try) -> None:
         d = dataclasses.asdict(t)
-        if not d["renamed_from"]:        # only a rename's line has it
-            del d["renamed_from"]
+        for key in ("renamed_from", "take"):   # only a rename's, a quit's line has it
+            if not d[key]:
+                del d[key]
         d["time"] = _dt.datetime.fromtimestamp(d.pop("started"), _dt.timezone.utc).isoformat(
             timespec="seconds")
         try:
@@ -172,7 +215,7 @@ class SessionLog:
                 f.flush()
                 os.fsync(f.fileno())
         except OSError as exc:   # (a disk full or gone): one line while it lasts, no traceback
-            why = f"{getattr(exc, 'filename', None) or self.path}: {exc.strerror or exc}"
+            why = self._why(exc, self.path)
             if why != self.failing:
                 log.warning("studio: session log not written: %s", why)
             self.failing = why
@@ -186,6 +229,8 @@ class SessionLog:
         try:
             review_sheet(what, demo, path, title=f"{t.target}: {t.outcome} {t.name}".strip(),
                          params=params)
+        except OSError as exc:     # where the log is said too: one line, no traceback
+            log.warning("review sheet %s not drawn: %s", path.name, self._why(exc, path))
         except Exception:  # a review sheet is a convenience: never stop the studio
             log.exception("review sheet %s not drawn", path)
 

@@ -29,6 +29,7 @@ class Target(Protocol):
                                                           # trained), else None; InputError
     def revert(self) -> None: ...                         # back to what played before the take
     def keep(self) -> str: ...                            # save the take; returns its name
+    # optional: tried_take() -> (suffix, text) | None, the take tried as its keep saves it
     def items(self) -> list[str]: ...                     # the library's items, sorted
     def current(self) -> str | None: ...                  # the item in play
     def use(self, name: str) -> None: ...                 # play a library item
@@ -58,3 +59,4 @@ class Try:
     name: str = ""
     review: str = ""
     renamed_from: str = ""     # outcome "renamed": the item's name before (F2, or its undo)
+    take: str = ""             # outcome "quit": the file the take tried was saved in, or ""

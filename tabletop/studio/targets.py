@@ -297,6 +297,13 @@ class PuppetMasterTarget(BehaviorShelf):
         secs = float(self.demo[-1, 0]) if n else 0.0
         return f"trained {n} samples ({secs:.1f} s){self.unseen.note()}"
 
+    def tried_take(self) -> tuple[str, str] | None:
+        """The take being tried (or trained) as its keep saves it: (".csv", its demonstration
+        CSV, which ``tabletop behave --train`` takes); None without one."""
+        if self.demo is None:
+            return None
+        return ".csv", library.demonstration_csv(self.demo)
+
     def revert(self) -> None:
         self.engine.hold, self.ghost, self._training = None, None, None
         if self.trainer is not None:

@@ -145,7 +145,14 @@ def test_missing_and_bad_files_are_named(tmp_path):
         load_motion(tmp_path / "nothere.txt")
     with pytest.raises(ClipError, match="humanoid3d_nosuch.txt") as err:
         load_motion("nosuch")
-    assert "the clips: backflip, cartwheel, " in str(err.value) and ", walk)" in str(err.value)
+    assert "the clips: backflip, cartwheel, " in str(err.value) and str(err.value).endswith(
+        ", walk")
+    assert "did you mean" not in str(err.value)
+    # a misspelt clip names the likely one
+    for typo in ("wlak", "spinkik"):
+        with pytest.raises(ClipError, match=f"{typo}.*; did you mean '(walk|spinkick)'\\? the "
+                           "clips: backflip"):
+            load_motion(typo)
     short = tmp_path / "short.txt"
     short.write_text(json.dumps({"Loop": "none", "Frames": [[0.1] * 44, [0.1] * 43]}))
     with pytest.raises(ClipError, match="short.txt: frame 1 has 43 numbers"):

@@ -153,3 +153,28 @@ def test_a_behaviour_file_given_as_the_demonstration_names_what_to_give(files, t
     assert len(err) == 1 and "a behaviour file, not a demonstration CSV" in err[0], err
     assert f"--train {folder}" in err[0] and str(folder / "demonstration.csv") in err[0], err
     assert behave("--train", folder / "demonstration.csv", *base) == 0    # as it says
+
+
+def test_a_folders_parameter_out_of_range_is_named_at_its_key(files, tmp_path, capsys):
+    """A value training refuses in a folder's behavior.yaml (window: 1), or a window longer
+    than its demonstration, is said at ``behavior.yaml: parameters.NAME`` (it named the folder
+    only); the same value given by --param is said as --param's."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    folder = tmp_path / "lover"
+    shutil.copytree(SHIPPED / "lover", folder)
+    yaml_file = folder / "behavior.yaml"
+    text = yaml_file.read_text()
+    assert "window: 40\n" in text
+    base = ["--train", folder, "--input", tmp_path / "main.csv", "--out", tmp_path / "o.csv"]
+    for value, words in ((1, "parameters.window: 1 must be an integer >= 2"),
+                         (3000, "parameters.window, parameters.rate_hz: demonstration lasts")):
+        yaml_file.write_text(text.replace("window: 40\n", f"window: {value}\n"))
+        assert behave(*base) == 2
+        err = capsys.readouterr().err.splitlines()
+        assert len(err) == 1 and f"error: {yaml_file}: {words}" in err[0], err
+    assert behave(*base, "--param", "window=0") == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "error: --param: behaviour parameter window: 0" in err[0], err
+    assert behave(*base, "--param", "window=20") == 0     # over the file's: trained
+    assert not capsys.readouterr().err

@@ -39,6 +39,7 @@ class Bench:
         self.session = SessionLog(tmp_path / "studio", review=review)
         self.studio = Studio(targets or [PuppetMasterTarget(e) for e in engines], countdown_s=0.0,
                              log_try=self.session.log_try)
+        self.studio.save_take = self.session.save_take     # as tabletop.studio.build does
 
     def step(self, frame):
         f = self.studio(frame)
@@ -273,11 +274,36 @@ def test_a_session_log_that_cannot_be_written_is_said_once_and_the_studio_goes_o
             log_.log_try(Try("pet", "behaviour", 1e9 + k, outcome="kept"), target)
     said = [r for r in caplog.records if "session log not written" in r.getMessage()]
     assert len(said) == 1 and said[0].exc_info is None and log_.lines == 0
-    assert "Not a directory" in said[0].getMessage() and log_.failing
+    # the file in the way is named (the system said "Not a directory", or "File exists")
+    assert f"{tmp_path / 'file'} is a file, not a folder" in said[0].getMessage()
+    assert log_.failing
+    with caplog.at_level("WARNING", logger="tabletop"):
+        assert log_.save_take(".csv", "t\n0\n") == ""      # a take tried at quit: said
+    assert f"the take tried was not saved: {tmp_path / 'file'} is a file, not a " \
+        "folder" in caplog.records[-1].getMessage()
     log_.folder = tmp_path / "studio"             # back: written, and said again if it fails
     log_.path = log_.folder / log_.path.name
     log_.log_try(Try("pet", "behaviour", 1e9, outcome="kept"), target)
     assert log_.lines == 1 and not log_.failing
+
+
+def test_a_review_sheet_that_cannot_be_written_is_one_line(tmp_path, caplog):
+    """The studio folder replaced by a file while running: the sheet's failure was a
+    traceback ("FileExistsError: [Errno 17] File exists"); it is one line naming the file."""
+    from types import SimpleNamespace
+
+    from tabletop.studio.take import Try
+    (tmp_path / "studio").write_text("not a folder")
+    log_ = SessionLog(tmp_path / "studio", review=True)
+    target = SimpleNamespace(what="behaviour",
+                             demo=designers.demonstrate("lover", seed=3, seconds=3))
+    log_.wait()                     # the plotting library loaded: the sheet is drawn
+    with caplog.at_level("WARNING", logger="tabletop"):
+        log_.log_try(Try("pet", "behaviour", 1e9, outcome="discarded"), target)
+        log_.wait()
+    said = [r for r in caplog.records if "review sheet" in r.getMessage()]
+    assert len(said) == 1 and said[0].exc_info is None, caplog.text
+    assert f"{tmp_path / 'studio'} is a file, not a folder" in said[0].getMessage()
 
 
 def test_a_corrupt_library_file_there_at_start_is_reported(tmp_path, caplog):

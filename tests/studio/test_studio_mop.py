@@ -296,3 +296,33 @@ def test_a_on_a_character_of_one_motion_says_it_is_the_only_one(tmp_path):
     table.tick(["designer.discard"])
     table.tick(["designer.assign"])
     assert "(A: another motion)" in table.status and "only motion" not in table.status
+
+
+def test_an_action_take_tried_at_quit_is_saved_as_its_template(tmp_path):
+    """A MOP take tried and not kept at quit is saved beside the session log as the template
+    CSV its keep writes (t and the performer's features), named in the log line; the library
+    does not list it, and ``tabletop follow`` follows the take along it."""
+    import json
+
+    from tabletop.cli import main as cli
+    from tabletop.studio.session import SessionLog
+    from tests.studio.mop_table import face_take
+    engine, table = face_take(tmp_path)
+    session = SessionLog(tmp_path / "studio", review=False)
+    table.studio.log_try, table.studio.save_take = session.log_try, session.save_take
+    assert table.studio.state == "trying"
+    samples = np.asarray(engine.take.samples())
+    table.studio.close()
+    (line,) = [json.loads(x) for x in session.path.read_text().splitlines()]
+    saved = session.folder / line["take"]
+    assert line["outcome"] == "quit" and saved.suffix == ".csv", line
+    assert "take tried, not kept; saved as" in table.studio.message
+    header, *rows = saved.read_text().splitlines()
+    got = np.array([[float(v) for v in r.split(",")] for r in rows])
+    assert header.split(",")[0] == "t" and np.allclose(got[:, 1:], samples), header
+    assert not (tmp_path / "lib" / "face").exists() or "take1" not in \
+        (tmp_path / "lib" / "face" / "actions.yaml").read_text()
+    assert cli(["follow", "--template", f"take={saved}", "--input", str(saved),
+                "--out", str(tmp_path / "o.csv")]) == 0
+    valid = [r.split(",")[-2] for r in (tmp_path / "o.csv").read_text().splitlines()[1:]]
+    assert valid.count("1") >= len(valid) // 2, valid

@@ -27,6 +27,17 @@ def take(tmp_path, demo, react_seen=lambda i: True, base=None, **extra):
     return labels, bench
 
 
+def tried(tmp_path, demo, **extra):
+    """Record ``demo`` whole (R at its first and last frame), not kept: the bench."""
+    (e,) = designer(tmp_path, **extra)
+    bench = Bench([e], tmp_path)
+    n = len(demo)
+    for i, row in enumerate(demo):
+        bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                         commands=("designer.record",) if i in (0, n - 1) else ()))
+    return bench
+
+
 def test_a_take_where_neither_puck_moved_is_refused_and_one_puck_moving_is_trained(tmp_path):
     demo = designers.demonstrate("lover", seed=3, seconds=3)
     still = demo.copy()
@@ -115,12 +126,7 @@ def test_the_keep_says_where_the_take_was_saved(tmp_path, monkeypatch):
 def test_a_take_dropped_while_it_trains_is_logged_with_its_samples(tmp_path):
     # X, R or Esc while the worker trained logged "samples": 0 (and drew no review sheet)
     demo = designers.demonstrate("lover", seed=3, seconds=3)
-    (e,) = designer(tmp_path, background_training=True)
-    bench = Bench([e], tmp_path)
-    n = len(demo)
-    for i, row in enumerate(demo):
-        bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
-                         commands=("designer.record",) if i in (0, n - 1) else ()))
+    bench, n = tried(tmp_path, demo, background_training=True), len(demo)
     assert bench.studio.state == "training"
     bench.studio.close()                          # Esc: the run ends
     (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
@@ -230,3 +236,33 @@ def test_a_sequential_main_part_leaves_the_character_where_it_stood(tmp_path):
             assert studio.action == "recording"
             assert np.hypot(c.x - before[0], c.y - before[1]) < 1e-9, (i, c.x, c.y, before)
     assert np.hypot(before[0] - 0.6, before[1] - 0.4) > 0.05    # not the centre by chance
+
+
+def test_a_take_tried_at_quit_is_saved_beside_the_session_log(tmp_path, caplog):
+    """Esc (the studio's close) while a take was tried left only its session log line: the
+    demonstration was lost. It is saved beside the log (atomically, the CSV ``behave --train``
+    takes), named in the log line, the log and the overlay, and is no library behaviour."""
+    from tabletop.cli import main as cli
+    demo = designers.demonstrate("lover", seed=3, seconds=4)
+    bench = tried(tmp_path, demo)
+    assert bench.studio.state == "trying"
+    trained = bench.studio.target.demo.copy()
+    with caplog.at_level("INFO", logger="tabletop"):
+        bench.studio.close()                          # Esc: the run ends
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    saved = bench.session.folder / line["take"]
+    assert line["outcome"] == "quit" and saved.name == \
+        bench.session.path.stem + "-take001.csv", line
+    assert bench.studio.message == f"pet: take tried, not kept; saved as {saved} (not in the " \
+        "library)"
+    assert any(f"take tried, not kept, at quit; saved as {saved}" in r.getMessage()
+               for r in caplog.records), caplog.text
+    assert (library.read_demonstration(saved) == trained).all()     # the take, all of it
+    assert library.list_behaviors(tmp_path / "lib") == []         # nothing loads it
+    assert sorted(p.name for p in saved.parent.iterdir()) == sorted(
+        [saved.name, bench.session.path.name])
+    rows = tmp_path / "main.csv"
+    rows.write_text("t,main_x,main_y,main_dir\n" + "".join(
+        f"{r[0]},{r[1]},{r[2]},{r[3]}\n" for r in demo[::10]))
+    assert cli(["behave", "--train", str(saved), "--input", str(rows),
+                "--out", str(tmp_path / "o.csv")]) == 0   # got back: trained from the file

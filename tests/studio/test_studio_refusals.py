@@ -262,3 +262,72 @@ def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tm
     assert studio(Frame(seq=2, t=1.2)).character("studio").label == ""
     said = [r.getMessage() for r in caplog.records if "no longer said" in r.getMessage()]
     assert len(said) == 1 and "rate_hz: expected a number" in said[0], said
+
+
+def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_path):
+    """A take tried at quit is saved beside the session log; the next start says where, in
+    the log and on the operator overlay until the next take (not on the studio's line, which
+    a replay makes again), and says nothing once the file is gone."""
+    import subprocess
+    import sys
+    import types
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import attach_studio
+    from tabletop.view import ProjectorView
+
+    studio_dir = tmp_path / "studio"
+    studio_dir.mkdir()
+    take = studio_dir / "session-20260101-120000-take001.csv"
+    take.write_text("t,main_x,main_y,main_dir,react_x,react_y,react_dir\n0,0,0,0,0,0,0\n")
+    (studio_dir / "session-20260101-120000.jsonl").write_text(
+        '{"target": "pet", "outcome": "kept"}\n{"target": "pet", "outcome": "quit", '
+        '"take": "session-20260101-120000-take001.csv"}\n')
+    said = "studio: the last session's take tried at quit is in " \
+        "studio/session-20260101-120000-take001.csv (not in the library)"
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2]}]\nengines: [{kind: puppet_master, "
+                   "name: pet, main: {puck: 1}, designer: {enabled: true, library: lib}}]\n")
+    err = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--headless", "--seconds", "0.5"], capture_output=True, text=True,
+                         cwd=ROOT, timeout=120).stderr
+    assert said in err, err
+
+    def started(replay=False):
+        config = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+            {"kind": "puppet_master", "name": "pet", "designer": {
+                "enabled": True, "library": str(tmp_path / "lib")}}],
+            "studio": {"review": False, "countdown_s": 0}}, "test.yaml", tmp_path)
+        q = CommandQueue()
+        view = ProjectorView(TABLE, dict(config["view"], size=[320, 180]), commands=q,
+                             headless=True)
+        loop = Loop(FrameInputs(iter(()), honour_times=False), designer(tmp_path), [view],
+                    commands=q, paced=False)
+        return view, attach_studio(types.SimpleNamespace(loop=loop), config, tmp_path,
+                                   replay=replay)
+    view, studio = started()
+    demo = designers.demonstrate("lover", seed=3, seconds=8)
+    notices = []
+    for i, row in enumerate(demo):
+        f = studio(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]),
+                                                       Puck(2, *row[4:7])),
+                         commands=("designer.record",) if i in (40, len(demo) - 1) else ()))
+        notices.append([n for fn in view.notices for n in fn()])
+        assert said not in f.character("studio").label
+    assert notices[0] == notices[39] == [said] and notices[40] == notices[-1] == [], notices
+    studio.command("designer.discard")
+    assert studio.state == "idle" and [n for fn in view.notices for n in fn()] == []
+    take.unlink()                                   # taken away: not said
+    view, studio = started()
+    assert [n for fn in view.notices for n in fn()] == []
+    # a replay's studio (in a temporary folder) neither says it nor saves the take again
+    view, studio = started(replay=True)
+    assert [n for fn in view.notices for n in fn()] == []
+    for i, row in enumerate(demo):
+        studio(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                     commands=("designer.record",) if i in (40, len(demo) - 1) else ()))
+    assert studio.state == "trying"
+    studio.close()
+    assert studio.tries[-1].outcome == "quit" and studio.tries[-1].take == ""
+    assert not list(studio_dir.glob("*-take*")), list(studio_dir.iterdir())

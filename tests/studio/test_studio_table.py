@@ -411,3 +411,26 @@ def test_review_cells_are_as_tall_as_their_sheets(tmp_path):
         runs.append(n)
     assert max(runs) < 40, max(runs)     # a caption's margins, never a blank band
     assert img.shape[0] < 3 * 260, img.shape
+
+
+def test_review_and_replay_given_the_studios_other_files_name_the_one_to_give(tmp_path,
+                                                                             capsys):
+    """A take saved at quit or a review sheet given to ``review`` said "not a session log line
+    (Expecting value: line 1 column 1 (char 0))", and a studio session log given to ``replay``
+    "line 1: not a tabletop-session header": each names what it is and the file to give."""
+    log = tmp_path / "session-20260101-120000.jsonl"
+    log.write_text('{"target": "pet", "outcome": "quit", "duration_s": 4.0, '
+                   '"take": "session-20260101-120000-take001.csv"}\n')
+    (tmp_path / "session-20260101-120000-take001.csv").write_text("t,main_x\n0,0\n")
+    (tmp_path / "session-20260101-120000-try001.png").write_bytes(b"\x89PNG\r\n\x1a\n\0\0")
+    for name, what in (("take001.csv", "a take saved at quit"),
+                       ("try001.png", "a try's review sheet")):
+        assert cli(["review", str(tmp_path / f"session-20260101-120000-{name}")]) == 2
+        err = capsys.readouterr().err.splitlines()
+        assert len(err) == 1 and f"{name}: {what}, not a studio session log; its log is " \
+            f"{log}" in err[0], err
+    assert cli(["replay", str(log), "--headless", "--fast"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and f"{log}: a studio session log (its tries: `tabletop review` " \
+        "draws them), not a session recording" in err[0], err
+    assert cli(["review", str(log), "--out", str(tmp_path / "sheet.png")]) == 0   # as said

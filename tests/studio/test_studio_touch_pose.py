@@ -403,3 +403,26 @@ def test_a_bad_action_file_at_the_start_is_logged_once(tmp_path, models, caplog)
     said = [r.getMessage() for r in caplog.records if "wave/action.json" in r.getMessage()]
     assert len(said) == 1, said
     assert "bad library file" in p.status and "wave/action.json" in p.status
+
+
+def test_a_posed_take_tried_at_quit_is_saved_as_its_action_file(tmp_path, models):
+    """A posed take tried and not kept at quit is saved beside the session log as the
+    action.json its keep writes (named in the log line); the library does not hold it."""
+    from tabletop.studio.session import SessionLog
+    p = Poser(tmp_path, models)
+    session = SessionLog(tmp_path / "studio", review=False)
+    p.studio.log_try, p.studio.save_take = session.log_try, session.save_take
+    for _ in range(10):
+        p.tick()
+    p.take()
+    assert p.studio.state == "trying"
+    p.studio.close()
+    (line,) = [json.loads(x) for x in session.path.read_text().splitlines()]
+    saved = session.folder / line["take"]
+    assert line["outcome"] == "quit" and saved.suffix == ".json", line
+    stored = json.loads(saved.read_text())
+    assert stored["name"] == "poser-action" and stored["part"] == "right_hand"
+    assert len(stored["times"]) == len(stored["rots"]) > 30
+    assert not (tmp_path / "actions" / "poser-action").exists()
+    again = Poser(tmp_path, models)                 # nothing loads it
+    assert again.target.items() == []

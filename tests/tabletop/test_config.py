@@ -53,6 +53,19 @@ def test_unknown_key_inside_a_component(tmp_path):
     assert "sources[0].speed" in msg and "unknown key" in msg
 
 
+def test_a_misspelt_key_names_the_likely_one(tmp_path):
+    """A misspelt key (a British "behaviour", a marker "recrod") listed every key of its
+    mapping and left the designer to find the one meant among them."""
+    msg = error_of(tmp_path, GOOD + "view:\n  sise: [640, 480]\n")
+    assert msg.endswith("view.sise: unknown key (known keys here: " + msg.split(
+        "known keys here: ")[1].split(")")[0] + "); did you mean 'size'?"), msg
+    msg = error_of(tmp_path, GOOD + "studio:\n  markers: {recrod: 45}\n")
+    assert "studio.markers.recrod: unknown key" in msg and \
+        msg.endswith("did you mean 'record'?"), msg
+    msg = error_of(tmp_path, GOOD + "view:\n  zzz: 1\n")
+    assert msg.endswith(")"), msg             # nothing near it: the known keys alone
+
+
 def test_wrong_type(tmp_path):
     msg = error_of(tmp_path, GOOD.replace("width: 1.2", "width: wide"))
     assert "table.width" in msg and "expected a number" in msg and "'wide'" in msg

@@ -220,3 +220,22 @@ def test_regular_bytes_are_read_whole_and_anything_else_refused_at_once(tmp_path
         f.truncate(MAX_TEXT_BYTES + 1)
     with pytest.raises(UnreadableText, match="^over 128 MB"):
         read_regular_bytes(huge)
+
+
+def test_a_json_file_given_for_a_csv_is_said_to_be_json(tmp_path, capsys):
+    """A sprite sheet given as a template, or the studio's session log as a demonstration,
+    said "line 1: duplicate column(s)" with 40 pieces of its JSON as column names (or "missing
+    column(s) t"): it is said to be JSON, in one line."""
+    from tabletop.cli import main as tabletop
+    sheet = ROOT / "examples" / "mop" / "bird.json"
+    gesture = ROOT / "examples" / "mop" / "gestures" / "circle.csv"
+    log = tmp_path / "session-20260101-120000.jsonl"
+    log.write_text('{"target": "pet", "outcome": "quit", "duration_s": 4.0}\n')
+    for command, given in ((["follow", "--template", f"c={sheet}", "--input", str(gesture)],
+                            f"{sheet}: line 1: JSON, not a template 'c' CSV file"),
+                           (["behave", "--train", str(log), "--input", str(gesture)],
+                            f"{log}: line 1: JSON, not a demonstration CSV")):
+        assert tabletop([*command, "--out", str(tmp_path / "o.csv")]) == 2
+        err = capsys.readouterr().err.splitlines()
+        assert len(err) == 1 and given in err[0], err
+    assert read_csv_lines(gesture)[1].shape[1] == 3      # a CSV is read as before

@@ -503,3 +503,21 @@ def test_an_empty_value_is_said_to_be_empty(tmp_path, capfd):
     assert code == 2 and one_line(err).endswith(
         "kiosk.yaml: table.width: expected a number in [0.05, 20.0], got nothing (an empty "
         "value, or null)")
+
+
+def test_a_library_file_given_as_the_config_says_what_it_is(tmp_path, capfd):
+    """A behaviour's behavior.yaml given as the config said only "format: unknown key", a
+    MOP character's actions.yaml "actions: unknown key": each says what it is and where it
+    goes, for run and calibrate check alike."""
+    import shutil
+    folder = tmp_path / "lover"
+    shutil.copytree(Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover",
+                    folder)
+    actions = tmp_path / "actions.yaml"
+    actions.write_text("actions:\n  - {name: a, template: a.csv, motion: walk}\n")
+    for command in (["run", "--headless", "--seconds", "1"], ["calibrate", "check"]):
+        code, err = cli(capfd, *command, "--config", folder / "behavior.yaml")
+        assert code == 2 and f"{folder / 'behavior.yaml'}: a behaviour's behavior.yaml, not a " \
+            f"config; an engine plays its folder (behavior: {folder})" in one_line(err), err
+        code, err = cli(capfd, *command, "--config", actions)
+        assert code == 2 and f"{actions}: a MOP character's actions file" in one_line(err), err
