@@ -135,6 +135,9 @@ designer's (m). The shipped demonstration on seeds 0-5: 21 (1) / 47 (1), 0.306 /
   the shipped policy's seeds 53-57. Pursuit met 41.7 against 41.2. Chased distance 0.327
   against 0.288, its designer's 0.434 against 0.377. On 128-139 (seed 53): 74 (5) / 79 (12).
   It keeps its distance at the edges: 21% of the demonstration within 0.1 m of one, against 6%.
+  At half that gain (seed 53): 25 (4) / 37 (8), 0.289 / 0.414; on 128-139 47 (3) / 67 (23).
+- WALL_M 0.3 / 0.12 (the band off the edges wider / narrower): 28 (2) / 46 (2), 0.265 /
+  0.354; 32 (3) / 42 (5), 0.309 / 0.422.
 - Looking where it runs only above 0.25 / 0.35 m/s, so it watches while it backs off: 34 (0) /
   44 (2), 29 (0) / 42 (6). Flight toward the most open room (rays to the edges): 27 (2) / 42
   (3), 0.261.
