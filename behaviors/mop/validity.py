@@ -56,7 +56,7 @@ their size converged, lost their pause). Until carried :data:`CARRY_FIRST` past 
 taken strained (as :func:`stalls`): 104 the same, mean 0.8872 (103 0.9055 -> 0.9034, 105 0.8818
 -> 0.8811), ``bench/follow_quality.py`` identical; but refused only while the action holds, a
 take at rest came back the next sample: a 0.7x circle paused 0.6 s (seed 5), re-taken strained
-as its performer stopped, flashed valid every third sample of the pause. Refused too when the
+as its performer stopped, flashed valid one sample in 3-4 through the pause. Refused too when the
 action driving last is taken again at rest (no flash): 104 the same, mean 0.8864 (103 0.9018,
 104 0.8841, 105 0.8810), ``bench/follow_quality.py`` identical, but ``tests/mop`` failed 4: a
 0.85x crawl wrist paused 0.6 s (reversal sizes off) 0.93 -> 0.66, and the measured gains of
