@@ -47,41 +47,8 @@ run 2 / 2 unchanged; sized valid after 30% at 0.7-1.4x 0.9005 / 0.9014 -> 0.9019
 unrelated and holds unchanged. Measured and not kept: no fit limit (unrelated mean 0.0588 / 0.0657
 -> 0.1199 / 0.1122) or the threshold model's share only (0.0703 / 0.0745); fit 2 radii: 0.0591 /
 0.0657 (a wander, a triangle and a diagonal at 1x: ticks where they perform a start of the action);
-1.5: no gain. The held-out twenty templates' 11-tick run is the evidence's breadth, not the fit: a
-spin wrist drove a circle's 0.297-0.399 (seed 101's first twenty-template sequence, after a wave).
-The circle's path so far lies within 2.2-4.1 mm of a start of the spin's
-(``bench.spotting_reach.closest_start``) up to 0.37 of it, then 6.3, 10.8 and 19 mm at 0.38-0.40;
-sigma is 9.0 x 11.1 mm on the circle (the broadest of the twenty), 7.9 x 5.9 mm on the spin, whose
-narrower Gaussian (the evidence's Jacobian) is worth it 0.77 nats a sample where both fit. Per
-tick: the circle engaged at 0.17 and covered at 0.25, on its path, fitting better in shape by
-0.8-1.0 nats up to 0.32 and worse by at most 1.3 up to 0.37, but probability 0.000, so no rival;
-the spin, best from 0.25, took the drive at 0.297 leading no one, and drove until the circle led by
-10.5 and 39 nats (0.389, 0.399) and became best at 0.41; no commitment (the circle never led by
-:data:`LEAD`), no spotting reset in between. Within sigma (and the 7.5 mm of the 5% bend
-``bench/follow_shapes.py`` asks it to follow) the two starts are one path; a shape margin alone
-holds true actions (where one at 0.7-1.4x, not yet driving, passed this rule, a covered template on
-its path fitted better by over 2 nats at 23 of 895 samples, held-out 37 of 890: a line by the
-square). ``bench/follow_seeds.py --sections=sequences`` (longest wrong run 11, 7, 10, 2, 2, 4 on
-101-106): the spin on a circle 7 (102: it fits better in shape by 4-12 nats at 0.30-0.37) and 10
-ticks (103), the punch ankle on a getup wrist 4 and 7 (103); ``--seed=202``: the spin on circles, 6
-and 7. Measured and not kept: broader rivals, a template broader than the action (the Jacobian at
-its size), engaged, covered, on its path, not going back (as
-:meth:`~behaviors.mop.spotting.GestureSpotting._shares`' rivals) and within :data:`LEAD` of its
-shape sum either way a rival whatever its probability (where two fit alike, the narrower's
-probability is its sharper Gaussian alone): ``bench/follow_quality.py`` (tuned / held-out) held-out
-twenty's run 11 -> 4 (the backflip ankle's end into a square's eased start; any other 2), within
-20% and every other sequence target unchanged, but valid after 30% at 0.7-1.4x 0.9121 / 0.9022 ->
-0.9113 / 0.9004 (lines held behind squares on their shared stroke, a punch ankle behind a getup
-wrist), aspect 1.1 shapes 0.8896 -> 0.8736; seeds 101-106: runs 4, 5, 2, 2, 2, 4, within 20%
-unchanged, held-out valid after 30% lower on every seed (mean 0.8876 -> 0.8844; 102 0.8749 ->
-0.8670). Any broader rival however it fits: valid after 30% 0.9113 / 0.8978 (a 0.7x line, followed
-at the wrong size until its turn, fits 18-25 nats worse than the square: 0.611 -> 0.417), 0.9115 /
-0.8978 with the rival's probability re-weighed at the action's spread instead; also going back:
-0.9090 / 0.8936, a line back to back never recognised (102). Any better-fitting covered template on
-its path: 11 -> 4, but sized 0.9014 -> 0.8942 held-out (an earlier follower). Shared starts made
-symmetric (also held while a rival's followed state lies in its start shared with the action,
-``sharing.shared_until``): the held-out run 11 -> 7 (share radius 4: 4), but six gestures within
-20% 0.125 -> 0.
+1.5: no gain. The held-out twenty templates' 11-tick run back to back (a narrower template driving
+a broader one alike in shape) and the rivals that end it: :mod:`behaviors.mop.rivals`.
 
 Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
 longest, where the six gestures' paths part, is 2 ticks.
@@ -302,6 +269,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.commitment import add_lagged_all
+from behaviors.mop.rivals import broad_rivals
 from behaviors.mop.take_fit import outwards, size_of_refused, take_fits_at
 
 
@@ -311,8 +279,8 @@ SHAPE_SPREAD = 3.5
 #: Lead in nats (at :data:`SHAPE_SPREAD`) by which an action must explain the gesture's shape
 #: better than every rival before it may drive.
 LEAD = 4.0
-#: Templates less probable than this (the evidence's probabilities) are no rivals, however broad
-#: (module docstring: the held-out 11-tick run).
+#: Templates less probable than this (the evidence's probabilities) are no rivals, unless broader
+#: than the action and alike in shape (:mod:`behaviors.mop.rivals`).
 RIVAL_PROBABILITY = 0.005
 #: An action whose shape fits within this many still radii (RMS per column per sample since the
 #: gesture began) and leads every template not refused by :data:`LEAD` drives without being
@@ -404,16 +372,17 @@ class ShapeLead:
             return -1
         return c
 
-    def _leads(self, bi: int, p: np.ndarray) -> bool:
+    def _leads(self, bi: int, p: np.ndarray, progress: np.ndarray) -> bool:
         """Whether ``bi`` explains the gesture's shape (:meth:`_add_shape`'s sums since it
         began, reset with the evidence at each new gesture) better than every rival (not
-        refused, probability ``p`` at least :data:`RIVAL_PROBABILITY`) by :data:`LEAD` nats at
-        the common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
+        refused, probability ``p`` at least :data:`RIVAL_PROBABILITY`, or broader and alike,
+        :meth:`_broad_rivals`; ``progress``: every template's) by :data:`LEAD` nats at the
+        common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
         spread: a narrow template (a line) does not win over a broad one (a square) whose path
         it shares. Nor does it lead while its own sum is beyond :data:`TAKE_FIT`."""
         if self._shape[bi] > self._shape_n * self.dim * TAKE_FIT ** 2:
             return False
-        rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
+        rivals = ~self._refused & (p >= RIVAL_PROBABILITY) | self._broad_rivals(bi, progress)
         rivals[bi] = False
         if rivals.any() and (self._shape[rivals].min() - self._shape[bi]
                              < LEAD * 2.0 * SHAPE_SPREAD ** 2):
@@ -425,6 +394,13 @@ class ShapeLead:
         b = self.bank
         g = float(b.starts[bi] + min(self.forward.mean[bi], b.lengths[bi] - 1.0))
         return self._fits_take(np.array(self._taken), bi, g, float(self._size[bi]))
+
+    def _broad_rivals(self, bi: int, progress: np.ndarray) -> np.ndarray:
+        """(K,) the rivals of ``bi`` whatever their probability (:func:`~behaviors.mop.rivals.
+        broad_rivals`; ``progress``: every template's)."""
+        open_ = ~self._refused & self._engaged & self._covered & ~self._misshaped
+        return broad_rivals(bi, self._jacobian + self.dim * np.log(self._size), open_, progress,
+                            self._gone, self._shape, LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
     def _remember_take(self, x: np.ndarray) -> None:
         """Keep sample ``x`` (from the anchor; none before there is one) among the last
