@@ -35,11 +35,13 @@ broader by less), within 20% and held-out valid after 30% unchanged on every see
 the same runs, valid after 30% lower on every seed (mean 0.8876 -> 0.8867); any broader (0): runs
 4, 5, 2, 2, 2, 4, but lower on every seed (mean 0.8844; 102 0.8749 -> 0.8670: lines held behind
 squares on their shared stroke, 0.35 broader, punch ankles behind getup wrists), bench 0.9113 /
-0.9004, aspect 1.1 shapes 0.8896 -> 0.8736. Any broader rival however it fits: valid after 30%
-0.9113 / 0.8978 (a 0.7x line, followed at the wrong size until its turn, fits 18-25 nats worse than
-the square: 0.611 -> 0.417), 0.9115 / 0.8978 with the rival's probability re-weighed at the
-action's spread instead; also going back: 0.9090 / 0.8936, a line back to back never recognised
-(102).
+0.9004, aspect 1.1 shapes 0.8896 -> 0.8736. 0.6 lies between the pairs it must spare (a line under
+the square 0.35 nats a sample, a punch ankle under a getup wrist 0.48) and the spin under the
+circle (0.77); among the tuned twenty no longest wrong run changes (``back_to_back`` seeds 0-39).
+Any broader rival however it fits: valid after 30% 0.9113 / 0.8978 (a 0.7x line, followed at the
+wrong size until its turn, fits 18-25 nats worse than the square: 0.611 -> 0.417), 0.9115 / 0.8978
+with the rival's probability re-weighed at the action's spread instead; also going back: 0.9090 /
+0.8936, a line back to back never recognised (102).
 
 Measured and not kept before: any better-fitting covered template on its path: 11 -> 4, but sized
 0.9014 -> 0.8942 held-out (an earlier follower). Shared starts made symmetric (also held while a
