@@ -23,8 +23,8 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
-                           members, path_kernel, reversal, shape_lead, threshold,
-                           threshold_kernel, validity)
+                           members, path_kernel, reversal, rivals, shape_lead, spotting,
+                           threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -37,14 +37,16 @@ from behaviors.mop.reversal import input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
+from behaviors.mop.rivals import BROADER
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
+from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
-               invariance, members, path_kernel, reversal, shape_lead, threshold,
-               threshold_kernel, validity)
+               invariance, members, path_kernel, reversal, rivals, shape_lead, spotting,
+               threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -79,9 +81,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     :func:`members.conclude`). Out per template: progress, recent mean log-likelihood, probability,
     whether its performance began anew; per member: top three by probability (-1 where fewer), the
     largest RMS displacement from the anchor (template units and size), any engaged, all refused,
-    whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape by
-    ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall rule
-    in :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
+    whether ``best`` leads every rival (not refused, probability at least ``rival_p``, or broader
+    and alike: :func:`~behaviors.mop.rivals.broad_rivals`) in shape by ``min_lead``, whether the
+    performer rests (``rest_out``: the holds' rule here, the stall rule in
+    :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
     (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples in its
     shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
@@ -408,8 +411,16 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             gb = c
         best[i] = gb - a0
         rival = np.inf
+        spread = tc[gb, 0] + dims * math.log(size[gb])
         for k in range(a0, a1):
-            if k != gb and not refused[k] and p_out[k] * kept >= rival_p and shape[k] < rival:
+            if k == gb or refused[k] or shape[k] >= rival:
+                continue
+            # ... or broader and alike in shape (rivals.broad_rivals)
+            if p_out[k] * kept >= rival_p or (
+                    engaged[k] and covered[k] and not misshaped[k]
+                    and progress_out[k] >= gone[k] - SHARE_BACK
+                    and abs(shape[k] - shape[gb]) < min_lead
+                    and tc[k, 0] + dims * math.log(size[k]) > spread + BROADER):
                 rival = shape[k]
         # ... and only while its shape since the gesture began fits (ShapeLead._leads)
         leads_out[i] = (not shape[gb] > shape_n[i] * dims * TAKE_FIT ** 2

@@ -195,10 +195,10 @@ class Recognition:
                   and (self._end_x is None or not self._moved_on(x, bi)))
         overran = False
         if self.invariance != "none":
-            if self._shared is not None:   # spotting._shares: each template's highest progress
-                np.maximum(self._gone, progress, out=self._gone)
+            # each template's highest progress (spotting._shares, shape_lead._broad_rivals)
+            np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (shape_lead.LEAD)
-            leads = self._leads(bi, p * self._kept)
+            leads = self._leads(bi, p * self._kept, progress)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (validity.slow_take); nor does any action

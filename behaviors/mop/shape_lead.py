@@ -47,25 +47,8 @@ run 2 / 2 unchanged; sized valid after 30% at 0.7-1.4x 0.9005 / 0.9014 -> 0.9019
 unrelated and holds unchanged. Measured and not kept: no fit limit (unrelated mean 0.0588 / 0.0657
 -> 0.1199 / 0.1122) or the threshold model's share only (0.0703 / 0.0745); fit 2 radii: 0.0591 /
 0.0657 (a wander, a triangle and a diagonal at 1x: ticks where they perform a start of the action);
-1.5: no gain. The held-out twenty templates' 11-tick run is the same lag the other way: a spin
-wrist drove a circle's 0.30-0.40 (its path within 2-4 mm of the spin's start) while the circle,
-probability 0.000, fitted better by only 13-35 (no commitment). Any better-fitting covered template
-on its path counted as a rival: 11 -> 4, but lines held behind squares (sized 0.9014 -> 0.8942
-held-out). Traced (the held-out seed's first twenty-template sequence), the circle's path so far
-lies within 2.2-4.1 mm of a start of the spin's (``bench.spotting_reach.closest_start``) up to 0.37
-of it, then 6.3, 10.8 and 19 mm at 0.38-0.40; sigma is 9.0 x 11.1 mm on the circle, 7.9 x 5.9 mm on
-the spin, whose narrower Gaussian is worth it 0.76 nats a sample where both fit (evidence lead 8-10
-nats), and the shape sums differ by at most 1.0 nats either way up to 0.37 (the spin fitting better
-at 0.33-0.37), then the circle leads by 0.6, 10.5, 39 and drives from 0.42. Within sigma (and the
-7.5 mm of the 5% bend ``bench/follow_shapes.py`` asks it to follow) the two starts are one path:
-the run is that stretch plus 3 samples after the paths part beyond 4 mm. No shape margin tells them
-without holding true actions: where a true action at 0.7-1.4x, not yet driving, passed this rule, a
-covered template on its path fitted better by over 2 nats at 23 of 895 samples (held-out 37 of 890;
-a line by the square), more than the circle leads before 0.38. With ``--seed=202`` (held-out draws
-never looked at) the spin drives two circles' 0.28-0.41, 6 and 7 samples, the longest wrong runs
-there. Shared starts made symmetric (also held while a rival's followed state lies in its start
-shared with the action, ``sharing.shared_until``), measured and not kept: the held-out run 11 -> 7
-(share radius 4: 4), but six gestures within 20% 0.125 -> 0.
+1.5: no gain. The held-out twenty templates' 11-tick run back to back (a narrower template driving
+a broader one alike in shape) and the rivals that end it: :mod:`behaviors.mop.rivals`.
 
 Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
 longest, where the six gestures' paths part, is 2 ticks.
@@ -286,6 +269,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.commitment import add_lagged_all
+from behaviors.mop.rivals import broad_rivals
 from behaviors.mop.take_fit import outwards, size_of_refused, take_fits_at
 
 
@@ -295,7 +279,8 @@ SHAPE_SPREAD = 3.5
 #: Lead in nats (at :data:`SHAPE_SPREAD`) by which an action must explain the gesture's shape
 #: better than every rival before it may drive.
 LEAD = 4.0
-#: Templates less probable than this (the evidence's probabilities) are no rivals.
+#: Templates less probable than this (the evidence's probabilities) are no rivals, unless broader
+#: than the action and alike in shape (:mod:`behaviors.mop.rivals`).
 RIVAL_PROBABILITY = 0.005
 #: An action whose shape fits within this many still radii (RMS per column per sample since the
 #: gesture began) and leads every template not refused by :data:`LEAD` drives without being
@@ -387,16 +372,17 @@ class ShapeLead:
             return -1
         return c
 
-    def _leads(self, bi: int, p: np.ndarray) -> bool:
+    def _leads(self, bi: int, p: np.ndarray, progress: np.ndarray) -> bool:
         """Whether ``bi`` explains the gesture's shape (:meth:`_add_shape`'s sums since it
         began, reset with the evidence at each new gesture) better than every rival (not
-        refused, probability ``p`` at least :data:`RIVAL_PROBABILITY`) by :data:`LEAD` nats at
-        the common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
+        refused, probability ``p`` at least :data:`RIVAL_PROBABILITY`, or broader and alike,
+        :meth:`_broad_rivals`; ``progress``: every template's) by :data:`LEAD` nats at the
+        common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
         spread: a narrow template (a line) does not win over a broad one (a square) whose path
         it shares. Nor does it lead while its own sum is beyond :data:`TAKE_FIT`."""
         if self._shape[bi] > self._shape_n * self.dim * TAKE_FIT ** 2:
             return False
-        rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
+        rivals = ~self._refused & (p >= RIVAL_PROBABILITY) | self._broad_rivals(bi, progress)
         rivals[bi] = False
         if rivals.any() and (self._shape[rivals].min() - self._shape[bi]
                              < LEAD * 2.0 * SHAPE_SPREAD ** 2):
@@ -408,6 +394,13 @@ class ShapeLead:
         b = self.bank
         g = float(b.starts[bi] + min(self.forward.mean[bi], b.lengths[bi] - 1.0))
         return self._fits_take(np.array(self._taken), bi, g, float(self._size[bi]))
+
+    def _broad_rivals(self, bi: int, progress: np.ndarray) -> np.ndarray:
+        """(K,) the rivals of ``bi`` whatever their probability (:func:`~behaviors.mop.rivals.
+        broad_rivals`; ``progress``: every template's)."""
+        open_ = ~self._refused & self._engaged & self._covered & ~self._misshaped
+        return broad_rivals(bi, self._jacobian + self.dim * np.log(self._size), open_, progress,
+                            self._gone, self._shape, LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
     def _remember_take(self, x: np.ndarray) -> None:
         """Keep sample ``x`` (from the anchor; none before there is one) among the last
