@@ -18,10 +18,7 @@ def test_a_smaller_gesture_whose_first_stroke_is_straight_is_sized_where_it_turn
     # a punch wrist and a kick ankle drawn 0.7x: along their straight first stroke size and
     # progress are one, the size stayed near 1 and the follower stopped at the turn while
     # another action took over. Measured valid after 30% (four seeds each): punch 0.64, kick
-    # 0.86 with the reversal's size; 0.03 and 0.59 without. Measured without the driving
-    # action's size probes (behaviors.mop.size_probe), which size them too: with them 0.70
-    # with the reversal's size, 0.41 without
-    monkeypatch.setattr(invariance, "PROBE_RATIO", 0.0)
+    # 0.86 with the reversal's size; 0.03 and 0.59 without
     templates = {**gestures, **mocap_templates(joints=TURNING_BACK)}
     shares, now = {}, invariance.REVERSAL_FIT
     for fit in (now, 0.0):

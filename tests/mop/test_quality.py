@@ -324,12 +324,9 @@ def test_a_gesture_larger_than_recorded_is_sized_by_its_reach(gestures, monkeypa
     # motion-capture paths whose first stroke is fast and straight (size and progress are one
     # there), drawn 1.4x: measured valid after 30% 0.99 with the reach bound and the sizes
     # judged afresh, 0.84 with the bound alone, 0.78 with the judging alone, 0.64 with neither
-    # (crawl and walk never recognised: refused at the stroke's end while the size was ~1).
-    # Measured without the driving action's size probes (behaviors.mop.size_probe), which size
-    # these too: with them 0.98 with both rules, 0.92 with neither
+    # (crawl and walk never recognised: refused at the stroke's end while the size was ~1)
     from bench.motions import mocap_templates
     from behaviors.mop import invariance
-    monkeypatch.setattr(invariance, "PROBE_RATIO", 0.0)
     clips = mocap_templates(joints=(("crawl", "right_wrist"), ("walk", "right_ankle"),
                                     ("cartwheel", "right_ankle"), ("punch", "left_ankle")))
     templates = {**gestures, **clips}
@@ -366,11 +363,9 @@ def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
     # a template whose followed state crawls while the input sweeps on is not taken
     # (validity.slow_take): the triangle's stroke held in a template's turn, the wander hovering.
     # Measured: triangle 0.089 (0.172 without), wander 0.028 (0.053); nothing vetoed as an
-    # overrun (overrun.overruns takes these ticks too). Without the driving action's size
-    # probes (behaviors.mop.size_probe; with them 0.029 against 0.097 without the rule)
-    from behaviors.mop import invariance, validity
+    # overrun (overrun.overruns takes these ticks too)
+    from behaviors.mop import validity
 
-    monkeypatch.setattr(invariance, "PROBE_RATIO", 0.0)
     monkeypatch.setattr(validity.Validity, "_overruns", lambda self, k, g, x: False)
     now = _crawl_shares(gestures)
     monkeypatch.setattr(validity, "LEAST_TEMPO", 0.0)
@@ -450,13 +445,10 @@ def test_a_gesture_drawn_smaller_is_sized_once_its_stroke_turns(gestures, monkey
     # along the template's direction (invariance.ALONG): a 0.85x crawl wrist and a 0.7x square,
     # each paused 0.6 s part way, three seeds. Measured valid after 30%: crawl 0.93 (0.54 with
     # the whole of each sample counted), square 0.32 (0.21); without the sizes at reversals
-    # (invariance.REVERSAL_FIT), which lift both (square 0.34 and 0.29), and without the driving
-    # action's size probes (behaviors.mop.size_probe), which size them too: with them 0.98 with
-    # ALONG, 0.99 with the whole of each sample counted
+    # (invariance.REVERSAL_FIT), which lift both (square 0.34 and 0.29)
     from bench.motions import mocap_templates
     from behaviors.mop import invariance
     monkeypatch.setattr(invariance, "REVERSAL_FIT", 0.0)
-    monkeypatch.setattr(invariance, "PROBE_RATIO", 0.0)
     templates = {**gestures, **mocap_templates(joints=(("crawl", "right_wrist"),))}
     shares, now, plain = {}, invariance.ALONG, 1.0
     for along in (now, plain):
