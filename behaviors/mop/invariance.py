@@ -192,9 +192,6 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_MOVE, input_reversal, reversal_map,
                                     reversal_size)
-from behaviors.mop.size_probe import (PROBE_DRIVING_ONLY, PROBE_FLOOR, PROBE_RATIO, PROBE_TURN_LAG,
-                                      input_turns,
-                                      take_probe)
 
 INVARIANCES = ("scale", "offset", "none")
 #: The least size a performance's reach allows: its farthest sample from the anchor over the
@@ -268,7 +265,6 @@ class PerformanceFrame:
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * self._still_scale
         self._reversal_move2 = float(np.sum((REVERSAL_MOVE * self._still_radius
                                              / self._units) ** 2))
-        self._probe_floor2 = PROBE_FLOOR * float(np.sum((self._still_radius / self._units) ** 2))
 
     def _with_tangents(self) -> TemplateBank:
         """The bank the forward algorithm runs on: each state's features followed, when
@@ -349,20 +345,6 @@ class PerformanceFrame:
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least),
                 lo, hi, out=self._size)
-        if PROBE_RATIO > 0:   # two sizes beside each estimate (behaviors.mop.size_probe)
-            b, g = self.bank, gi + frac
-            recent = self._recent_x[-2 * PROBE_TURN_LAG:]
-            turns = len(recent) == 2 * PROBE_TURN_LAG and input_turns(
-                np.array(recent)[None], np.array([len(self._recent_x)], dtype=np.intp), 0,
-                x[None], self._units, self._reversal_move2)
-            for k in range(len(self.names)):
-                take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
-                           float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi,
-                           self._num, self._den, self._size, self._least,
-                           float(self._prior[k]), k,
-                           turns and (k == self._acquired or not PROBE_DRIVING_ONLY)
-                           and not (k == self._acquired
-                                    and self._recent_dist2(k) > self._accept2))
 
     def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
