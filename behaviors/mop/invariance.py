@@ -165,6 +165,13 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   the path read 12 states ahead, not 25: 0.9188 / 0.9116, 0.093, 0.832, 0.858; ratio 0.2: 0.9222
   / 0.9037, 0.093, 0.832, 0.862; the probe fitting within the floor itself: 0.9213 / 0.9044,
   0.093, 0.833, 0.858.
+  The probes' factor 1.1 (instead of 1.2): 0.9147 / 0.9041, 0.072, 0.866, 0.869 (edges 0.754 /
+  0.675, as without probes; aspect 1.2 0.384 / 0.427), the follow_seeds sized 0.904 / 0.883 /
+  0.907 / 0.886 / 0.891 / 0.875 (mean 0.8876 -> 0.8909, worst 0.8744 -> 0.8746), unrelated worst
+  unchanged on each seed, holds too but seed 106's RMSE max 0.0425 -> 0.0403: none of the three
+  losses, but a quarter of the gain, and none on the probes' test cases (the 0.7x run and crawl
+  wrists, the 1.4x spinkick ankle: 0.828 with and without); at 1.15: 0.9226 / 0.9008, 0.093,
+  0.848, 0.865; 1.1 with ratio 0.5: 0.9210 / 0.9067, 0.093, 0.852, 0.855.
 
 One size per template, the same in every column: a performer's redraw that is taller than wide
 (``bench/follow_shapes.py``) is followed only as far as the misfit allows. Measured and not
