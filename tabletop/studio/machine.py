@@ -75,6 +75,7 @@ class Studio(LibraryCommands):
         self.selected: str | None = self.order[0] if self.order else None
         self.until = 0.0             # countdown end (frame time)
         self.message, self._message_until = "", -math.inf
+        self._message_s = 0.0        # how long the message shows, from the tick that draws it
         # the state and target a message was said in (None: said this tick); it is shown while
         # they last, at most MESSAGE_S
         self._message_for: tuple[str, str | None] | None = None
@@ -106,7 +107,10 @@ class Studio(LibraryCommands):
         log.info("studio: %s", text)
 
     def _show(self, text: str, seconds: float) -> None:
-        self.message, self._message_until = text, self._t + seconds
+        """``text`` on the status line for ``seconds`` from the tick that first draws it (one
+        said before the first frame, as a kiosk's rebuilt studio says what its edit did, would
+        be past at once on the loop's clock)."""
+        self.message, self._message_s, self._message_until = text, seconds, math.inf
         self._message_for = None
 
     def _message_ends(self) -> None:
@@ -114,7 +118,7 @@ class Studio(LibraryCommands):
         countdown after "R records ...") or another target (Tab) ends it."""
         now = (self.state, self.selected)
         if self._message_for is None:
-            self._message_for = now
+            self._message_for, self._message_until = now, self._t + self._message_s
         elif self._message_for != now:
             self._message_until = -math.inf
 
