@@ -18,6 +18,7 @@ from behaviors.puppet_master.character import FOLLOW_SHARE
 from behaviors.puppet_master.generation import (capped, less_approach, mean_capped, share_around,
                                                 step_around, target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
+from behaviors.puppet_master.step_charge import close_on_touch
 from behaviors.puppet_master.step_detail import StepDetail
 from behaviors.puppet_master.table_boundary import fit_target
 
@@ -240,51 +241,9 @@ class GenerationStep(StepDetail):
                                            b.main_approach[target], cx, cy)
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
-            if self._charge_end >= 0:
-                # a charge kept whole arrives: the live distance beyond the demonstrated one is
-                # closed over the charge's remaining steps to the touch (at once while it
-                # pushes), before the step's cap. Measured with bench/fidelity.py --seeds
-                # 0,1,2: 306 -> 307 of 360 (held-out seed 7: 102 -> 103); the bully's contact
-                # met on 6 of 9 paths instead of none (0.11-0.17), its orbit lost on 3 and the
-                # stalker and playful friend (one charge each) 2 each. Kept whole without the
-                # closing: 302 (contact 0.05-0.10); with the place held in the world during a
-                # charge: 308 but contact met on 1 of 9; target and relative step turned to
-                # the live bearing: 307, contact met on 3 of 9, orbit lost on 3
-                touch = b.charge_touch[target]
-                lx, ly = mx - rx, my - ry
-                live = math.hypot(lx, ly)
-                gap = live - dist
-                if gap > 0.0 and live > 1e-9:
-                    gap /= max(1, touch - target + 1)
-                    sx, sy = sx + gap * lx / live, sy + gap * ly / live
-                # Where a charge falls short: a match joining it partway (live 0.30 m where the
-                # moment is at 0.19), a place held in the world capped at the demonstrated
-                # speed while the live main walks away, and the detail turn (up to 1.3 rad at
-                # the governor's gain) of a step still fast at the impact, which swipes it
-                # sideways 7 cm from the main. Every remedy measured (seeds 0-5 / held-out 7,
-                # against 623 / 107; bully contact met on 10 of 18 paths) trades contact for
-                # orbit, the bully's rate round its main at close range (0.6-0.9 rad/s within
-                # 0.1 m against 0.3 demonstrated, its faster unseen mains passing at 5 cm):
-                # cap at the top speed during a charge 586 / 101 (against 609 / 104 before the
-                # personal space below; contact 13, orbit 0 of 18);
-                # cap raised by the live main's step away 613 / 104; the detail turning only
-                # the demonstrated length of a charge's step 624 / 105 (contact 15, orbit 14);
-                # both 623 / 107 (contact 13, orbit 12); the top speed only before the touch,
-                # with that detail, 622 / 107 (contact 13, orbit 14, the still/moving ratio lost
-                # on 5); entering a charge at the moment as far from its main as the live
-                # reactor 617 / 104.
-                # Traced again on seeds 0-5, 8-13, 26-31 x3 runs (Behavior.main_disc in place
-                # or not): contact is short on the fast paths (mean 0.128, 14 of 54 under
-                # 0.110; the designer 0.145) and over on the slow (0.173, 7 over 0.204; the
-                # designer 0.158). On the fast paths 20-30% of the charges never touch: a world
-                # place's cap is the moment's speed (0.26-0.43 m/s) while the live main walks
-                # away at 0.25-0.39 (seed 0 fast, 3.1 s: all 40 steps capped, 0.325 -> 0.097
-                # m). Raising that cap in a charge by the live main's step away from the
-                # reactor meets the fast paths (14 -> 1-5 low) but overshoots the slow and
-                # loops paths and orbits: bully misses 67 -> 106 (contact 34, orbit 43); at
-                # most the top speed 80 (18, 37), with the main's disc 60 (contact 3 under on
-                # the fast paths, 13 over on both others); only while farther than the moment
-                # 73; the main's step away added after the cap 115 (orbit 62). None kept
+            if self._charge_end >= 0:     # a charge kept whole arrives (step_charge.py)
+                sx, sy = close_on_touch(sx, sy, mx - rx, my - ry, dist,
+                                        b.charge_touch[target] - target)
             # a place held in the world moves at the demonstrated speed, as the paper's step,
             # its drift correction included. The correction on top of the cap (cap + share x
             # distance to the place) keeps the lover at its distance beside slow mains (0.14 ->

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import os
 import re
+import signal
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
@@ -93,3 +94,14 @@ def last_error(tail: Sequence[str]) -> str:
         return found.strip()
     plain = [t for t in lines if not t[:1].isspace() and not CALM_LINE.match(t)]
     return (plain or lines or [""])[-1].strip()
+
+
+def describe_exit(code: int) -> str:
+    """What ended a child, as an entry says it: its exit status, or the signal (a negative
+    ``code``, as :class:`subprocess.Popen` gives it)."""
+    if code < 0:
+        try:
+            return f"killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"killed by signal {-code}"
+    return f"exit status {code}"

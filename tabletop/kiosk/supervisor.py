@@ -49,7 +49,8 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
-from tabletop.kiosk.crash_log import append_crash, crash_entry, restarting_status
+from tabletop.kiosk.crash_log import (append_crash, crash_entry, describe_exit,
+                                      restarting_status)
 from tabletop.kiosk.status_fields import status_text, utc_now, write_status
 from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.paths import kiosk_log, kiosk_paths
@@ -99,15 +100,6 @@ class Child:
         if self.exit_fd is not None:
             os.close(self.exit_fd)
             self.exit_fd = None
-
-
-def describe_exit(code: int) -> str:
-    if code < 0:
-        try:
-            return f"killed by {signal.Signals(-code).name}"
-        except ValueError:
-            return f"killed by signal {-code}"
-    return f"exit status {code}"
 
 
 class Supervisor:

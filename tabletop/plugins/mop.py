@@ -37,29 +37,27 @@ redoes it.
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 from pathlib import Path
 
 from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
-from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
+from behaviors.mop.puppetry import Puppet
 from behaviors.mop.stage import MopStage
+from tabletop.plugins.mop_rigs import make_rig
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
                                         action_entries, action_files, check_shared_library,
                                         configured_action, configured_actions, library_actions,
                                         library_names, load_template, resolve_motion,
                                         save_to_library)
-from tabletop.files import FileFormatError, json_loads
+from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Range, Record,
                              Str)
 
-#: The creature's point its face rides on in a hybrid character (its nose).
-HYBRID_HEAD = 3
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
 
 log = logging.getLogger("tabletop")
@@ -198,7 +196,7 @@ def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> N
         clip = MotionLoader(kind, ctx.base)(motion)
         if kind != "sprite":
             if c["name"] not in rigs:
-                rigs[c["name"]] = _make_rig(c)
+                rigs[c["name"]] = make_rig(c)
             rigs[c["name"]].check(clip)
 
 
@@ -250,7 +248,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             # made now: a file that is no URDF stopped the check (or the build) naming no key
             from behaviors.motion.skeleton import SkeletonError
             try:
-                rigs[c["name"]] = _make_rig(c)
+                rigs[c["name"]] = make_rig(c)
             except SkeletonError as exc:
                 raise ctx.error(f"{where}.skeleton", str(exc)) from None
         seen = set()
@@ -298,31 +296,6 @@ SCHEMA = Record({
 
 
 # --- loading ------------------------------------------------------------------------------------
-
-def _make_rig(c: dict):
-    if c["kind"] == "sprite":
-        from behaviors.mop.puppetry import sprite_sheet_from_mapping
-        try:
-            data = json_loads(Path(c["sheet"]).read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise MopError(f"{c['sheet']}: cannot read sprite sheet: {exc}") from None
-        return sprite_sheet_from_mapping(data, str(c["sheet"]))
-    if c["kind"] == "creature":
-        from behaviors.mop.creatures import creature_skeleton
-        return PlanarRig(creature_skeleton())
-    if c["kind"] == "face":
-        from behaviors.mop.creatures import FaceModel
-        return FaceRig(FaceModel())
-    if c["kind"] == "hybrid":
-        from behaviors.mop.creatures import FaceModel, creature_skeleton
-        return HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), HYBRID_HEAD)
-    from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf
-    from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf
-    urdf = c["skeleton"] or humanoid_urdf()
-    return HumanoidRig(ProjectedFigure(load_urdf(urdf), Projection(
-        view_yaw=c["view_yaw"], elevation=c["elevation"]), root_scale=ROOT_SCALE),
-        travel=c["travel"])
-
 
 def _make_performer(p: dict) -> Performer:
     many = len(p["inputs"]) > 1
@@ -388,7 +361,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     watched: list[dict] = []        # every configured action (those too): a kiosk follows them
     features = {n: p.names for n, p in performers.items()}
     for c in options["characters"]:
-        rig = _make_rig(c)
+        rig = make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]

@@ -75,6 +75,7 @@ class Studio(LibraryCommands):
         self.selected: str | None = self.order[0] if self.order else None
         self.until = 0.0             # countdown end (frame time)
         self.message, self._message_until = "", -math.inf
+        self._message_s = 0.0        # how long the message shows, from the tick that draws it
         # the state and target a message was said in (None: said this tick); it is shown while
         # they last, at most MESSAGE_S
         self._message_for: tuple[str, str | None] | None = None
@@ -106,7 +107,10 @@ class Studio(LibraryCommands):
         log.info("studio: %s", text)
 
     def _show(self, text: str, seconds: float) -> None:
-        self.message, self._message_until = text, self._t + seconds
+        """``text`` on the status line for ``seconds`` from the tick that first draws it (one
+        said before the first frame, as a kiosk's rebuilt studio says what its edit did, would
+        be past at once on the loop's clock)."""
+        self.message, self._message_s, self._message_until = text, seconds, math.inf
         self._message_for = None
 
     def _message_ends(self) -> None:
@@ -114,7 +118,7 @@ class Studio(LibraryCommands):
         countdown after "R records ...") or another target (Tab) ends it."""
         now = (self.state, self.selected)
         if self._message_for is None:
-            self._message_for = now
+            self._message_for, self._message_until = now, self._t + self._message_s
         elif self._message_for != now:
             self._message_until = -math.inf
 
@@ -335,24 +339,46 @@ class Studio(LibraryCommands):
             self.say(fn(-1 if arg == "-" else 1))
 
     def close(self) -> None:
-        """The studio stops (Esc, the end of a run): a take under way is dropped, and one tried
-        (or training) is logged with outcome "quit", so the session log still shows it, and
-        saved beside it (:meth:`SessionLog.save_take
-        <tabletop.studio.session.SessionLog.save_take>`, not in the library: nothing loads it),
-        named in the log and on the overlay."""
+        """The studio stops (Esc, the end of a run): the take is dropped, and one tried (or
+        training) or still recorded (or a main part waiting for its reaction) is logged with
+        outcome "quit", so the session log still shows it, and saved beside it
+        (:meth:`SessionLog.save_take <tabletop.studio.session.SessionLog.save_take>`, not in
+        the library: nothing loads it), named in the log and on the overlay. A take recorded
+        too short to be of use is not: the log says why."""
         if self.state == "idle":
             return
         left, tried = self.selected, self.state in ("trying", "training")
-        saved = ""
-        if tried and self._try is not None and self.save_take is not None:
-            saved = self._save_tried(self.target)
+        saved, why = "", ""
+        if self._try is None:
+            why = "" if tried else "nothing recorded yet (the countdown)"
+        elif self.save_take is not None:
+            saved, why = (self._save_tried(self.target), "") if tried else \
+                self._save_recorded(self.target)
             self._try.take = Path(saved).name if saved else ""
-        self._drop("quit" if tried else "")
+            if not tried and self.target is not None:
+                self._try.duration_s = round(self.target.seconds(), 3)
+        self._drop("quit" if tried or saved else "")
         said = f"; saved as {saved} (not in the library)" if saved else ""
-        if tried:       # on the overlay while a kiosk's applied config edit rebuilds
-            self._show(f"{left}: take tried, not kept{said}", MESSAGE_S)
-        log.info("studio: %s: take %s at quit%s", left,
-                 "tried, not kept," if tried else "cancelled", said)
+        what = "tried, not kept," if tried else "recorded, not tried," if saved else "cancelled"
+        if tried or saved:     # on the overlay while a kiosk's applied config edit rebuilds
+            self._show(f"{left}: take {what.rstrip(',')}{said}", MESSAGE_S)
+        log.info("studio: %s: take %s at quit%s%s", left, what, said,
+                 f"; nothing saved: {why}" if why else "")
+
+    def _save_recorded(self, target: Target | None) -> tuple[str, str]:
+        """The take ``target`` still records, saved by :attr:`save_take`: (its file, "") or
+        ("", why none was saved)."""
+        fn = getattr(target, "recorded_take", None)
+        if fn is None:
+            return "", "this target keeps no take recorded at quit"
+        try:
+            made = fn()
+            if isinstance(made, str):
+                return "", made
+            return self.save_take(*made), ""      # "" when not written: said in the log
+        except Exception:     # (a disk full): the quit goes on, the log says why none
+            log.exception("studio: the take recorded was not saved")
+            return "", "it could not be written"
 
     def _save_tried(self, target: Target | None) -> str:
         """The take ``target`` tries, saved by :attr:`save_take`: its file, or "" (none, or

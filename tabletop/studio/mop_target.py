@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from behaviors.mop.takes import MIN_TAKE_SAMPLES
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.folders import named_folder, trash
@@ -76,7 +77,7 @@ class MopTarget(RunOnlyTakes):
         return f"get ready: {p.name} ({what}) performs {self.character}'s new action"
 
     def begin(self, frame: Frame) -> None:
-        self.unseen = Unseen()
+        self.unseen, self.demo = Unseen(), None
         self.stage.begin_take(self.character, frame)
 
     def resume(self, frame: Frame) -> None:
@@ -180,7 +181,21 @@ class MopTarget(RunOnlyTakes):
         take = self.stage.take
         if take is None or take.character != self.character or take.recording:
             return None
+        return self._template_csv()
+
+    def recorded_take(self) -> tuple[str, str] | str:
+        """The take still recorded at quit, as :meth:`tried_take` gives one (its still ends
+        kept), or why none: fewer samples than a take is learned from."""
+        take = self.stage.take
+        n = len(take.rows) if take is not None and take.character == self.character else 0
+        if n < MIN_TAKE_SAMPLES:
+            return f"take too short ({n} of {MIN_TAKE_SAMPLES} samples)"
+        return self._template_csv()
+
+    def _template_csv(self) -> tuple[str, str]:
+        """The stage's take as its keep saves the template: t and the performer's features."""
         from tabletop.files import format_csv
+        take = self.stage.take
         samples = np.asarray(take.samples(), dtype=float)
         t = np.arange(len(samples)) / self.stage.rate_hz
         names = self.stage.performers[take.performer].names

@@ -160,9 +160,29 @@ class TouchPoseTarget:
         """The take being tried as its keep saves it: (".json", the ``action.json`` of
         :func:`behaviors.touch_pose.designed.save_action`); None without one."""
         if self.pending is None or not self.times:
-            return None
+            return self.learning_take()
         a = self.pending
         return ".json", designed.to_json(a.name, a.spec.part, np.array(self.times), self.poses)
+
+    def learning_take(self) -> tuple[str, str] | None:
+        """A take still being learned, as :meth:`recorded_take` gives one; None without one."""
+        if self.worker is None or not self.times:
+            return None
+        made = self.recorded_take()
+        return made if isinstance(made, tuple) else None
+
+    def recorded_take(self) -> tuple[str, str] | str:
+        """The take still recorded (or learned) at quit as an ``action.json``, its name the
+        one its keep would take and its part the one held longest; or why none: shorter than
+        :data:`~behaviors.touch_pose.designed.MIN_SECONDS`, or no part held."""
+        if self.seconds() < designed.MIN_SECONDS:
+            return (f"take too short ({self.seconds():.2f} s, needs "
+                    f"{designed.MIN_SECONDS:g} s)")
+        if not self.held:
+            return "no body part was held"
+        part = max(self.held, key=self.held.__getitem__)
+        return ".json", designed.to_json(self._free_name(), part, np.array(self.times),
+                                         self.poses)
 
     def revert(self) -> None:
         self.core.recognising = True

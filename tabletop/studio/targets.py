@@ -304,6 +304,20 @@ class PuppetMasterTarget(BehaviorShelf):
             return None
         return ".csv", library.demonstration_csv(self.demo)
 
+    def recorded_take(self) -> tuple[str, str] | str:
+        """The take still recorded at quit, as :meth:`tried_take` gives one: its demonstration
+        CSV; a sequential take's main part alone (its reaction not done: ``behave
+        --train-main``'s columns, times from 0); or why none (a take too short to train)."""
+        try:
+            demo = self.demonstration()
+        except InputError as exc:
+            return str(exc)
+        if demo.shape[1] == 7:
+            return ".csv", library.demonstration_csv(demo)
+        from tabletop.commands.behave import MAIN_COLUMNS
+        from tabletop.files import format_csv
+        return ".csv", format_csv(MAIN_COLUMNS, (demo - [demo[0, 0], 0, 0, 0]).tolist())
+
     def revert(self) -> None:
         self.engine.hold, self.ghost, self._training = None, None, None
         if self.trainer is not None:

@@ -137,3 +137,31 @@ def test_an_edit_applied_while_a_designer_behaviour_file_is_bad_keeps_it_playing
     live = replays_without(tmp_path / "session-2.jsonl", tmp_path / "replayed.jsonl", {"lover"})
     lover = [c for f in live for c in f["characters"] if c["name"] == "lover"]
     assert lover[0]["valid"] and lover[-1]["valid"]
+
+
+def test_what_an_applied_edit_did_is_on_the_rebuilt_studio_s_line(tmp_path):
+    """The rebuilt studio says what the edit did (takes kept for this run only saved or
+    dropped) before its first frame: the message's seconds ran on the loop's clock from the
+    last installation's, so it was past at the first frame and never drawn. It is drawn from
+    the first frame for MESSAGE_S, then the line is the studio's own again."""
+    from tabletop.studio.machine import MESSAGE_S
+    cfg = config([10, 20, 30])
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib"}
+    cfg["studio"] = {"enabled": True}
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    note = "config edit dropped mop/face's takes kept for this run only: take1"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = runner.inst
+        runner._notes.append(note)           # as _save_run_only leaves them for the rebuild
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, first), 30)
+        studio = runner.studio
+
+        def line() -> str:
+            return studio.character(Frame(seq=0, t=studio._t)).label
+        assert studio._t > MESSAGE_S and line() == f"[lover] {note}"
+        assert 0 < studio._message_until - studio._t <= MESSAGE_S
+        assert wait_for(lambda: "R record" in line(), MESSAGE_S + 10)

@@ -334,6 +334,8 @@ def test_the_status_line_names_a_behaviour_played_from_outside_the_library(tmp_p
     library.save_behavior(tmp_path / "lib", "shy", designers.demonstrate("afraid", seconds=4), {})
     bench.studio.command("designer.item_next")
     _, studio = bench.step(Frame(seq=1, t=30.0, pucks=(Puck(1, 0.5, 0.4, 0.0),)))  # said
+    assert "shy" in studio.label and "R record" not in studio.label
+    _, studio = bench.step(Frame(seq=2, t=36.0, pucks=(Puck(1, 0.5, 0.4, 0.0),)))  # then
     assert studio.label.startswith("[pet] behaviour shy: R record")
 
 
@@ -442,9 +444,11 @@ def test_the_status_line_names_a_behaviour_deleted_while_it_plays(tmp_path):
     bench = kept_pet(tmp_path)
     bench.studio.command("designer.undo")
     main = (Puck(1, 0.5, 0.4, 0.0),)
-    out, studio = bench.step(Frame(seq=900, t=160.0, pucks=main))     # the message is over
+    bench.step(Frame(seq=899, t=160.0, pucks=main))          # the message, from its first frame
+    out, studio = bench.step(Frame(seq=900, t=166.0, pucks=main))     # the message is over
     assert out["pet"].valid and "pet (deleted)" in out["pet"].label
     assert studio.label.startswith("[pet] behaviour pet (deleted): R record"), studio.label
     bench.studio.command("designer.undo")                 # nothing left to undo: it stays
-    out, studio = bench.step(Frame(seq=901, t=170.0, pucks=main))
+    bench.step(Frame(seq=901, t=170.0, pucks=main))
+    out, studio = bench.step(Frame(seq=902, t=176.0, pucks=main))
     assert "behaviour pet (deleted)" in studio.label, studio.label

@@ -326,3 +326,41 @@ def test_an_action_take_tried_at_quit_is_saved_as_its_template(tmp_path):
                 "--out", str(tmp_path / "o.csv")]) == 0
     valid = [r.split(",")[-2] for r in (tmp_path / "o.csv").read_text().splitlines()[1:]]
     assert valid.count("1") >= len(valid) // 2, valid
+
+
+def test_an_action_take_still_recorded_at_quit_is_saved_as_its_template(tmp_path, caplog):
+    """A MOP take still recorded at quit was dropped ("take cancelled at quit"): it is saved
+    as a tried one is (the template CSV, ``follow`` follows it); one of fewer samples than a
+    take is learned from is not, and the log says so."""
+    import json
+
+    from tabletop.cli import main as cli
+    from tabletop.plugins.mop_table import build, designer_config
+    from tabletop.studio.mop_table import StudioTable
+    from tabletop.studio.session import SessionLog
+    for sub, gesture in (("a", "line"), ("b", None)):
+        table = StudioTable(build(designer_config(tmp_path / sub), tmp_path / sub),
+                            tmp_path / sub / "lib")
+        session = SessionLog(tmp_path / sub / "studio", review=False)
+        table.studio.log_try, table.studio.save_take = session.log_try, session.save_take
+        table.rest(1.0)
+        table.tick(["designer.record"])
+        if gesture:
+            table.perform(gesture)
+        assert table.studio.state == "recording"
+        if gesture:
+            samples = np.asarray(table.engine.take.samples())
+        with caplog.at_level("INFO", logger="tabletop"):
+            table.studio.close()
+    (line,) = [json.loads(x) for x in
+               next((tmp_path / "a" / "studio").glob("*.jsonl")).read_text().splitlines()]
+    saved = tmp_path / "a" / "studio" / line["take"]
+    assert line["outcome"] == "quit" and saved.suffix == ".csv", line
+    assert f"take recorded, not tried, at quit; saved as {saved}" in caplog.text
+    got = np.loadtxt(saved, delimiter=",", skiprows=1)
+    assert np.allclose(got[:, 1:], samples) and len(got) > 30
+    assert cli(["follow", "--template", f"take={saved}", "--input", str(saved),
+                "--out", str(tmp_path / "o.csv")]) == 0
+    assert list((tmp_path / "b" / "studio").glob("*take*")) == []
+    assert "take cancelled at quit; nothing saved: take too short (1 of 8 samples)" \
+        in caplog.text, caplog.text

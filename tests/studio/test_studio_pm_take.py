@@ -5,6 +5,8 @@ whose reactor puck was lost part of the time says how long (those stretches are 
 
 import json
 
+import numpy as np
+
 from behaviors.puppet_master import designers
 from tabletop import library
 from tabletop.frames import Frame, Puck
@@ -266,3 +268,50 @@ def test_a_take_tried_at_quit_is_saved_beside_the_session_log(tmp_path, caplog):
         f"{r[0]},{r[1]},{r[2]},{r[3]}\n" for r in demo[::10]))
     assert cli(["behave", "--train", str(saved), "--input", str(rows),
                 "--out", str(tmp_path / "o.csv")]) == 0   # got back: trained from the file
+
+
+def quit_while(tmp_path, demo, keys, caplog, **extra):
+    """Step ``demo`` with R at the frames ``keys``, then Esc (the studio's close): (the bench,
+    its session log's lines, the log's text)."""
+    (e,) = designer(tmp_path, **extra)
+    bench = Bench([e], tmp_path)
+    for i, row in enumerate(demo):
+        bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                         commands=("designer.record",) if i in keys else ()))
+    with caplog.at_level("INFO", logger="tabletop"):
+        bench.studio.close()
+    path = bench.session.path
+    lines = [json.loads(x) for x in path.read_text().splitlines()] if path.exists() else []
+    return bench, lines, caplog.text
+
+
+def test_a_take_still_recorded_at_quit_is_saved_when_long_enough(tmp_path, caplog):
+    """A take still recorded at Esc (or a sequential take's main part waiting for its
+    reaction) was dropped, "take cancelled at quit": it is saved beside the session log as a
+    tried one is, named in its log line; one too short to train says so and saves nothing."""
+    from tabletop.cli import main as cli
+    demo = designers.demonstrate("lover", seed=3, seconds=4)            # 160 frames at 40 Hz
+    bench, (line,), text = quit_while(tmp_path / "a", demo, {10}, caplog)
+    saved = bench.session.folder / line["take"]
+    assert line["outcome"] == "quit" and saved.name == bench.session.path.stem + "-take001.csv"
+    assert line["duration_s"] == round(demo[-1, 0] - demo[10, 0], 3) == 3.725, line
+    assert f"pet: take recorded, not tried, at quit; saved as {saved}" in text, text
+    assert np.allclose(library.read_demonstration(saved)[:, 1:], demo[10:, 1:])
+    rows = tmp_path / "main.csv"
+    rows.write_text("t,main_x,main_y,main_dir\n" + "".join(
+        f"{r[0]},{r[1]},{r[2]},{r[3]}\n" for r in demo[::10]))
+    assert cli(["behave", "--train", str(saved), "--input", str(rows),
+                "--out", str(tmp_path / "o.csv")]) == 0
+    assert library.list_behaviors(tmp_path / "a" / "lib") == []         # nothing loads it
+    # the main part of a sequential take, waiting for its reaction: behave --train-main's file
+    bench, (line,), text = quit_while(tmp_path / "s", demo, {10, 120}, caplog, sequential=True)
+    assert bench.studio.state == "idle" and "take recorded, not tried, at quit" in text
+    main = (bench.session.folder / line["take"]).read_text().splitlines()
+    assert main[0] == "t,main_x,main_y,main_dir" and len(main) == 1 + 110, main[:2]
+    assert [float(v) for v in main[1].split(",")] == [0.0, *demo[10, 1:4]]
+    # too short to train (1.5 s of the 2 s a take needs): nothing saved, and why
+    caplog.clear()
+    bench, lines, text = quit_while(tmp_path / "c", demo[:80], {20}, caplog)
+    assert lines == [] and list(bench.session.folder.glob("*-take*")) == []
+    assert "pet: take cancelled at quit; nothing saved: take too short (1.4 s of both " \
+        "pucks, needs 2 s)" in text, text

@@ -73,14 +73,16 @@ class Poser:
         out = [self.tick(start + path(k / n)) for k in range(n + 1)]
         return out + [self.tick() for _ in range(int(2.5 * RATE))]
 
-    def take(self, path=arc):
+    def take(self, path=arc, stop=True, settle=12):
+        """R, a drag of the right hand, R (``stop``), then ``settle`` ticks."""
         self.tick(cmds=["designer.record"])
         start = part_at(self.engine, "right_hand")
         n = int(DRAG_S * RATE)
         for k in range(n + 1):
             self.tick(start + path(k / n))
-        self.tick(start + path(1.0), cmds=["designer.record"])
-        for _ in range(12):                           # learned, in play 0.3 s after the stop
+        if stop:
+            self.tick(start + path(1.0), cmds=["designer.record"])
+        for _ in range(settle):                       # learned, in play 0.3 s after the stop
             self.tick()
 
 
@@ -426,3 +428,34 @@ def test_a_posed_take_tried_at_quit_is_saved_as_its_action_file(tmp_path, models
     assert not (tmp_path / "actions" / "poser-action").exists()
     again = Poser(tmp_path, models)                 # nothing loads it
     assert again.target.items() == []
+
+
+def test_a_posed_take_recorded_or_learned_at_quit_is_saved_as_its_action_file(tmp_path, models,
+                                                                              caplog):
+    """A posed take still recorded at quit, or still being learned, was not saved: it is, as
+    the action.json its keep would write; a take of no part held says why nothing was."""
+    from tabletop.studio.session import SessionLog
+
+    def quit_after(sub, ticks):
+        p = Poser(tmp_path / sub, models)
+        session = SessionLog(tmp_path / sub / "studio", review=False)
+        p.studio.log_try, p.studio.save_take = session.log_try, session.save_take
+        ticks(p)
+        state = p.studio.state
+        with caplog.at_level("INFO", logger="tabletop"):
+            p.studio.close()
+        lines = session.path.read_text().splitlines() if session.path.exists() else []
+        return state, [json.loads(x) for x in lines], session.folder
+
+    for sub, ticks, state in (("rec", lambda p: p.take(stop=False, settle=0), "recording"),
+                              ("learn", lambda p: p.take(settle=0), "training")):
+        was, (line,), folder = quit_after(sub, ticks)
+        assert was == state and line["outcome"] == "quit", (was, line)
+        stored = json.loads((folder / line["take"]).read_text())
+        assert stored["name"] == "poser-action" and stored["part"] == "right_hand"
+        assert len(stored["times"]) == len(stored["rots"]) > 30
+        assert not (tmp_path / sub / "actions" / "poser-action").exists()
+    was, lines, folder = quit_after("none", lambda p: [p.tick(cmds=["designer.record"])] + [
+        p.tick() for _ in range(int(RATE))])
+    assert was == "recording" and lines == [] and list(folder.glob("*take*")) == []
+    assert "take cancelled at quit; nothing saved: no body part was held" in caplog.text

@@ -18,7 +18,7 @@ from behaviors.motion.skeleton import place
 from tabletop.config import load_config
 from tabletop.drawing.characters import hybrid_parts
 from tabletop.frames import CharacterState, Frame
-from tabletop.plugins.mop import HYBRID_HEAD
+from tabletop.plugins.mop_rigs import HYBRID_HEAD
 from tabletop.view import INVITATIONS, Renderer, invitation
 
 from tests.tabletop.test_view import SIZE, TABLE, at, ground, rgb
@@ -170,11 +170,12 @@ def test_the_example_characters_never_overlap_on_the_table():
     every character's footprint, over its rest pose and every action's poses, stays clear of
     the others' by a limb's width and inside the table."""
     from behaviors.motion.skeleton import place
-    from tabletop.plugins.mop import MotionLoader, _make_rig
+    from tabletop.plugins.mop import MotionLoader
+    from tabletop.plugins.mop_rigs import make_rig
     cfg = load_config(ROOT / "examples" / "mop.yaml")
     boxes = {}
     for c in cfg["engines"][0]["characters"]:
-        rig = _make_rig(c)
+        rig = make_rig(c)
         load = MotionLoader(c["kind"], ROOT / "examples", rig)
         clips = [load(a["motion"]) for a in c["actions"]]
         poses = [rig.rest()] + [rig.pose(clip, float(q)) for clip in clips
