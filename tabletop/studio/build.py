@@ -170,7 +170,7 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
     # a replay's studio folder is a temporary one: the take was saved by the run it replays
     studio.save_take = None if replay else session.save_take
     if left is not None:     # the designer's work the last session left: where it is
-        said = (f"studio: the last session's take tried at quit is in "
+        said = (f"studio: the last session's take saved at quit is in "
                 f"{named_folder(left.parent, base)}{left.name} (not in the library)")
         log.info("%s", said)
         for sink in inst.loop.sinks:     # on the operator overlay until the next take

@@ -284,7 +284,7 @@ def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_pa
     (studio_dir / "session-20260101-120000.jsonl").write_text(
         '{"target": "pet", "outcome": "kept"}\n{"target": "pet", "outcome": "quit", '
         '"take": "session-20260101-120000-take001.csv"}\n')
-    said = "studio: the last session's take tried at quit is in " \
+    said = "studio: the last session's take saved at quit is in " \
         "studio/session-20260101-120000-take001.csv (not in the library)"
     cfg = tmp_path / "c.yaml"
     cfg.write_text("sources: [{kind: scripted, pucks: [1, 2]}]\nengines: [{kind: puppet_master, "
