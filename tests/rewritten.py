@@ -28,7 +28,7 @@ class _Quiet:
         pass
 
 
-def test_files(root: Path = HERE) -> list[Path]:
+def files_rewritten(root: Path = HERE) -> list[Path]:
     """The files pytest rewrites here: every ``test_*.py`` and ``conftest.py`` (the project's
     ``python_files`` is pytest's default), in name order."""
     return sorted(p for p in root.rglob("*.py")
@@ -52,7 +52,7 @@ def write(path: str) -> bool:
 
 
 def main() -> int:
-    files = [str(p) for p in test_files()]
+    files = [str(p) for p in files_rewritten()]
     with ProcessPoolExecutor(os.cpu_count() or 1) as pool:
         done = sum(pool.map(write, files, chunksize=8))
     if done < len(files):
