@@ -43,23 +43,25 @@ $(EARLY_STOP): | $(STAMP)
 # folder per contents of their files, shared by every clone on the machine: a fresh clone
 # (CI's) then builds only the few plain numba ones beside their sources (18 CPU s instead of 49).
 KERNELS := $(VENV)/.kernels
-# (MOP's threshold model is compiled on its first call: a follower takes a few steps; the
-# take fits (behaviors/mop/take_fit.py) on gestures followed at two sizes: without them every
-# test worker and installation started on a fresh clone compiled them on first use, 2-5 CPU s)
+# (MOP's threshold model is compiled on its first call: a follower takes a few steps)
 MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, \
 	behaviors.mop.member_validity, behaviors.mop.sharing; \
 	from behaviors.mop.follower import ActionFollower; \
-	from bench.follow_quality import puck_follower, run; \
-	from bench.motions import gesture_templates, performance; \
 	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
-	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]; \
-	g = gesture_templates(); f = puck_follower(g); rng = np.random.default_rng(0); \
-	[run(f, performance(rng, g[n], s)[0]) for n in ('circle', 'zigzag') for s in (0.7, 1.4)]
+	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]
 # (with the Puppet Master's, the benchmarks' path alignment, bench.motions.aligned_gap, that the
-# MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each)
+# MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each;
+# and MOP's take fits, behaviors/mop/take_fit.py, on gestures followed at two sizes: else every
+# test worker and installation started on a fresh clone compiled them on first use, 2-5 CPU s.
+# The benches need the packages pip installs meanwhile: on a fresh clone this build fails during
+# the install and runs after it)
 PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
 	behaviors.puppet_master.step_kernel, bench.motions; \
-	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2)))
+	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2))); \
+	from bench.follow_quality import puck_follower, run; \
+	g = bench.motions.gesture_templates(); f = puck_follower(g); rng = np.random.default_rng(0); \
+	[run(f, bench.motions.performance(rng, g[n], s)[0]) \
+	 for n in ('circle', 'zigzag') for s in (0.7, 1.4)]
 BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "$(PM_AND_BENCH)" & pm=$$!; \
