@@ -36,10 +36,12 @@ $(EARLY_STOP): | $(STAMP)
 	$(PY) -c "from tabletop import early_stop as e; e.write_site_line()" && touch $@
 
 # The compiled kernels (numba: MOP's, Puppet Master's searches and step, the view's drawing) are
-# built once, into the cache beside their sources, so neither the installation's first start
-# nor each test worker compiles them: during the install, and again (a few seconds, from the
-# cache) when a file of theirs changes. The three builds run side by side (about 80 s of CPU
-# cold in all).
+# built once, into the cache, so neither the installation's first start nor each test worker
+# compiles them: during the install, and again (a few seconds, from the cache) when a file of
+# theirs changes. The three builds run side by side (about 50-80 s of CPU cold in all). The
+# cache of those built through behaviors/kernel_cache.py is ~/.cache/tabletop/kernels, one
+# folder per contents of their files, shared by every clone on the machine: a fresh clone
+# (CI's) then builds only the few plain numba ones beside their sources (18 CPU s instead of 49).
 KERNELS := $(VENV)/.kernels
 # (MOP's threshold model is compiled on its first call: a follower takes a few steps)
 MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, \
@@ -48,10 +50,18 @@ MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group
 	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
 	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]
 # (with the Puppet Master's, the benchmarks' path alignment, bench.motions.aligned_gap, that the
-# MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each)
+# MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each;
+# and MOP's take fits, behaviors/mop/take_fit.py, on gestures followed at two sizes: else every
+# test worker and installation started on a fresh clone compiled them on first use, 2-5 CPU s.
+# The benches need the packages pip installs meanwhile: on a fresh clone this build fails during
+# the install and runs after it)
 PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
 	behaviors.puppet_master.step_kernel, bench.motions; \
-	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2)))
+	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2))); \
+	from bench.follow_quality import puck_follower, run; \
+	g = bench.motions.gesture_templates(); f = puck_follower(g); rng = np.random.default_rng(0); \
+	[run(f, bench.motions.performance(rng, g[n], s)[0]) \
+	 for n in ('circle', 'zigzag') for s in (0.7, 1.4)]
 BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "$(PM_AND_BENCH)" & pm=$$!; \
@@ -71,11 +81,14 @@ run: $(STAMP) kernels
 # The suite runs in TEST_WORKERS worker processes (pytest-xdist): three on the two-core target
 # machine, so that one worker's waits (live runs, sockets, `tabletop` subprocesses) are another's
 # CPU time (quiet machine: 167 s against 195-212 s with two). A worker that runs out of tests
-# takes half of another's queue. The project's byte-code is compiled first: the many `tabletop`
-# subprocesses of the tests then load it, not the sources.
+# takes half of another's queue. The project's byte-code (the benches' and tests' helpers too)
+# is compiled first: the many `tabletop` subprocesses of the tests then load it, not the sources.
+# So are pytest's rewritten test modules (tests/rewritten.py), on every core: each worker imports
+# them all, and rewriting their asserts was two thirds of its collection (9.5 -> 2.8 CPU s).
 TEST_WORKERS ?= 3
 test: $(STAMP) kernels
-	$(PY) -m compileall -q -j0 tabletop behaviors tracking calibration >/dev/null
+	$(PY) -m compileall -q -j0 tabletop behaviors tracking calibration bench tests >/dev/null
+	$(PY) -m tests.rewritten
 	$(PY) -m pytest -n $(TEST_WORKERS) --dist worksteal
 
 # Every benchmark script in turn (`python -m bench`, bench/__main__.py), each one's last line;

@@ -6,9 +6,9 @@ MOP's forward and group kernels ask only for fused multiply-adds), the interpret
 released, numpy's error model (a float divided by zero is an infinity or NaN, as in the numpy
 rules the kernels twin: with Python's, MOP's group fed two samples of 1e30 in a row raised
 ZeroDivisionError on every tick from there on while its followers went on), the machine code
-cached beside the source (or in numba's user-wide folder where the package's ``__pycache__``
-cannot be written) so that neither the installation's start nor a test worker compiles it
-(``make kernels`` builds the caches).
+cached (in :data:`SHARED` under its stamp, else beside the source, else in numba's user-wide
+folder: the first that can be written) so that neither the installation's start nor a test
+worker compiles it (``make kernels`` builds the caches).
 
 numba's cache trusts itself while the kernel's own file is unchanged, yet every compiled
 function the kernel calls from another file, and every constant it reads from one, is built
@@ -33,6 +33,14 @@ from numba.core import caching
 log = logging.getLogger("tabletop")
 
 Source = Union[ModuleType, str, "os.PathLike[str]"]
+
+#: The project's folder: kernels all of whose files lie in it are cached in :data:`SHARED`.
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+#: The user's cache of the project's kernels, one folder per stamp (:func:`stamp`), shared by
+#: every copy of the project on the machine: a fresh clone (CI's, each ``make``) loads what
+#: another copy with the same files built (a cold build of all of them is about 70 CPU s).
+SHARED = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"),
+                      "tabletop", "kernels")
 
 
 def _path(source: Source) -> str:
@@ -90,6 +98,17 @@ def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
         def get_source_stamp(self) -> bytes:
             return stamp(covers)
 
+    class Shared(Stamped, caching.InTreeCacheLocator):
+        def __init__(self, py_func: Callable, py_file: str) -> None:
+            super().__init__(py_func, py_file)
+            self._cache_path = os.path.join(SHARED, stamp(covers).hex()[:20])
+
+        @classmethod
+        def from_function(cls, py_func: Callable, py_file: str) -> Any:
+            if not all(os.path.commonpath((ROOT, c)) == ROOT for c in covers):
+                return None
+            return super().from_function(py_func, py_file)
+
     class InTree(Stamped, caching.InTreeCacheLocator):
         pass
 
@@ -97,7 +116,7 @@ def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
         pass
 
     class Impl(caching.CompileResultCacheImpl):
-        _locator_classes = [InTree, UserWide]
+        _locator_classes = [Shared, InTree, UserWide]
 
     return type("StampedCache", (StampedCache,), {"_impl_class": Impl, "covers": covers})
 

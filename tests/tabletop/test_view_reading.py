@@ -62,6 +62,22 @@ def table_view(turn: str | None, draw: Draw, light: int = 40) -> np.ndarray:
     return back(changed)
 
 
+@pytest.fixture(scope="module")
+def plain_view() -> Callable[..., np.ndarray]:
+    """``of(None, *args)`` (:func:`table_view`, :func:`one_moment`: the plain calibration's
+    view), drawn once per module (every turned view of a word compares with it); read-only,
+    so that no test changes what another reads."""
+    memo: dict[tuple, np.ndarray] = {}
+
+    def view(of: Callable[..., np.ndarray], *args: object) -> np.ndarray:
+        key = (of, *args)
+        if key not in memo:
+            memo[key] = of(None, *args)
+            memo[key].setflags(write=False)
+        return memo[key]
+    return view
+
+
 def overlap(a: np.ndarray, b: np.ndarray) -> float:
     """Intersection over union of two masks of one size, each word (a patch of pixels with
     under 6 px between them) taken at its best shift within 1 px: a word centred on the
@@ -118,15 +134,15 @@ WORDS = {"idle invitation": invitation, "puck ids": puck_ids, "studio status lin
 
 @pytest.mark.parametrize("turn", list(TURNS))
 @pytest.mark.parametrize("word", list(WORDS))
-def test_a_word_reads_upright_on_the_table_on_every_calibration(word, turn):
+def test_a_word_reads_upright_on_the_table_on_every_calibration(plain_view, word, turn):
     """The idle invitation and the puck ids read mirrored, upside down or sideways on such a
     table (drawn upright in the window); the studio's status line read sideways on a quarter
     turn. Seen from the table, each is where and as the plain calibration draws it."""
-    plain = table_view(None, WORDS[word])
+    plain = plain_view(table_view, WORDS[word])
     seen = table_view(turn, WORDS[word])
     if word == "main take's ghost":        # its word only, under the ring (38 px) and notch
         yy, xx = np.mgrid[:720, :1280]
-        plain &= np.hypot(xx - 556, yy - 360) > 1.35 * 38
+        plain = plain & (np.hypot(xx - 556, yy - 360) > 1.35 * 38)
         seen &= np.hypot(xx - 556, yy - 360) > 1.35 * 38
     assert plain.sum() > 100, word                  # (the word is drawn at all)
     assert overlap(plain, seen) >= SAME, (word, turn, overlap(plain, seen))
@@ -136,23 +152,27 @@ def bright(img: np.ndarray) -> np.ndarray:
     return img.sum(axis=2) > 300
 
 
+def one_moment(turn: str | None) -> np.ndarray:
+    """The window drawing "One moment" (rgb, rows x columns of the plain window) as the table
+    shows it."""
+    if turn is None:
+        H, size, back = PLAIN_H, SIZE, (lambda a: a)
+    else:
+        move, size, back = TURNS[turn]
+        H = np.vstack([np.array(move, dtype=float), [0.0, 0.0, 1.0]]) @ PLAIN_H
+    renderer = Renderer(TABLE, size, margin=24, homography=H)
+    renderer.moment = 1.0                # (the calm screen at its full)
+    surface = pygame.Surface(size)
+    renderer.draw(surface, Frame(seq=0, t=0.0, status="one_moment"))
+    return back(pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int))
+
+
 @pytest.mark.parametrize("turn", list(TURNS))
-def test_one_moment_reads_upright_below_its_ring_on_every_calibration(turn):
+def test_one_moment_reads_upright_below_its_ring_on_every_calibration(plain_view, turn):
     """"One moment", the words under the ring of lights while the cameras reconnect, read
     mirrored or sideways on such a table. Seen from the table, the words (the bright pixels
     below the ring: it turns with the window's axes) are the plain calibration's."""
-    views = []
-    for t in (None, turn):
-        if t is None:
-            H, size, back = PLAIN_H, SIZE, (lambda a: a)
-        else:
-            move, size, back = TURNS[t]
-            H = np.vstack([np.array(move, dtype=float), [0.0, 0.0, 1.0]]) @ PLAIN_H
-        renderer = Renderer(TABLE, size, margin=24, homography=H)
-        renderer.moment = 1.0                # (the calm screen at its full)
-        surface = pygame.Surface(size)
-        renderer.draw(surface, Frame(seq=0, t=0.0, status="one_moment"))
-        views.append(back(pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)))
+    views = [plain_view(one_moment), one_moment(turn)]
     # the ring: 0.06 of the window's smaller side (720 px) around the table's centre moved 0.04 of
     # it away from the reader; its lights' glows reach 0.5 of that beyond it
     ring_y, r = 360 - 0.04 * 720, 0.06 * 720
@@ -162,21 +182,24 @@ def test_one_moment_reads_upright_below_its_ring_on_every_calibration(turn):
     assert overlap(plain, seen) >= SAME, (turn, overlap(plain, seen))
 
 
+PANEL = ["calibration check at 07:02:11:", "puck 3: 0.8 mm", "PASS (worst 0.8 mm)"]
+
+
+def panel(renderer: Renderer, surface: pygame.Surface, with_word: bool) -> None:
+    """The operator overlay's panel with the calibration check's lines."""
+    renderer.draw(surface, Frame(seq=0, t=0.0), PANEL if with_word else None)
+
+
 @pytest.mark.parametrize("turn", list(TURNS))
-def test_the_operator_panel_reads_upright_on_every_calibration(turn):
+def test_the_operator_panel_reads_upright_on_every_calibration(plain_view, turn):
     """The operator overlay's panel (the calibration check's lines, the sources' health) read
     mirrored or sideways on such a table. It stands in a window corner: seen from the table,
     cut to its own extent, it is the plain calibration's panel."""
-    lines = ["calibration check at 07:02:11:", "puck 3: 0.8 mm", "PASS (worst 0.8 mm)"]
-
-    def panel(renderer: Renderer, surface: pygame.Surface, with_word: bool) -> None:
-        renderer.draw(surface, Frame(seq=0, t=0.0), lines if with_word else None)
-
     def cut(m: np.ndarray) -> np.ndarray:
         rows, cols = np.flatnonzero(m.any(axis=1)), np.flatnonzero(m.any(axis=0))
         return m[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
     # (its text: its translucent ground changes the table under it, which differs by corner)
-    plain, seen = cut(table_view(None, panel, 300)), cut(table_view(turn, panel, 300))
+    plain, seen = cut(plain_view(table_view, panel, 300)), cut(table_view(turn, panel, 300))
     assert plain.shape == seen.shape, (plain.shape, seen.shape)
     assert overlap(plain, seen) >= SAME, (turn, overlap(plain, seen))
 
