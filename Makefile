@@ -10,9 +10,10 @@ STAMP := $(VENV)/.installed
 # resolve with); the interpreter's pip puts the current pip into it (`pip --python`, pip 22.3 or
 # newer; otherwise ensurepip's copy is used). What the compiled kernels need (numpy, numba,
 # pygame: their pyproject lines) is installed first, so that the kernels build on the idle core
-# while pip downloads and unpacks the rest (pip works on one core). Byte-code is compiled after
+# while pip downloads and unpacks the rest (pip works on one core); with scipy and PyYAML, which
+# the benches' build (bench.motions, MOP's take fits) imports. Byte-code is compiled after
 # each step on every core, the packages' own test suites left out.
-KERNEL_DEPS = $$(sed -n 's/^ *"\(\(numpy\|numba\|pygame-ce\)[^"]*\)".*/\1/p' pyproject.toml)
+KERNEL_DEPS = $$(sed -n 's/^ *"\(\(numpy\|numba\|pygame-ce\|scipy\|PyYAML\)[^"]*\)".*/\1/p' pyproject.toml)
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv --without-pip $(VENV)
 	$(PY) -m pip --version >/dev/null 2>&1 \
@@ -53,8 +54,7 @@ MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group
 # MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each;
 # and MOP's take fits, behaviors/mop/take_fit.py, on gestures followed at two sizes: else every
 # test worker and installation started on a fresh clone compiled them on first use, 2-5 CPU s.
-# The benches need the packages pip installs meanwhile: on a fresh clone this build fails during
-# the install and runs after it)
+# scipy and PyYAML, which these import, are installed with the kernels' own packages)
 PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
 	behaviors.puppet_master.step_kernel, bench.motions; \
 	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2))); \
