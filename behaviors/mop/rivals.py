@@ -67,6 +67,12 @@ but valid after 30% lower on every seed, mean 0.8745 -> 0.8729 (111: 0.8812 -> 0
 action whose size moved by over 3% in three samples does not lead: runs 3, 6, 4, 2, 2, 2, but
 valid after 30% mean 0.8745 -> 0.8234, twenty within 20% 0.297 -> 0.260 (8%: runs 3, 6, 4, 4,
 5, 2, valid after 30% 0.8544): true actions' sizes move as much early on.
+Broader rivals ahead in shape by LEAD or more counted at BROADER too (the bound one way, follower
+and group): on seeds 101-112 runs 4 -> 3 on 106 and 110, no other run or within-20% share
+changed; but held-out valid after 30% 0.9022 -> 0.9013 (101: a 0.7x line held behind the square,
+0.611 -> 0.528) and 0.9055 -> 0.9044 (103), held-out bent 10% 0.4686 -> 0.4590; tuned, only
+after a gesture changed (mean 0.0639 -> 0.0627). Elsewhere the spin's rising size narrows its
+gap to the circle under BROADER (112: 0.63 -> 0.27 nats a sample over its 4-tick drive).
 """
 
 from __future__ import annotations
