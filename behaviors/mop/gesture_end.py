@@ -79,6 +79,11 @@ sample), and a kick ankle performed at 1.5 states per sample is followed at 0.92
 last one. A forward that keeps the performer's tempo through such stretches ended those runs
 but cost other figures (measured, not kept: :class:`behaviors.mop.hmm.Transitions`); an end at
 the tempo followed before the eased stretch ends most of them (:mod:`behaviors.mop.handover`).
+Held out (``bench/follow_seeds.py --sections=sequences``, seed 108: six gestures' longest wrong
+run 3): the zigzag's end drove the square's first three samples (0-0.019). Its end was fast (the
+input moved 2.1-2.7 mm a sample, over two still radii, so neither the tempo rule nor
+:meth:`_arrived` applies); the follower was at 0.967 at the performer's last sample (``end``
+0.97), reached it one sample later, at the square's first, and the grace added two.
 """
 
 from __future__ import annotations

@@ -47,6 +47,32 @@ Measured and not kept before: any better-fitting covered template on its path: 1
 0.9014 -> 0.8942 held-out (an earlier follower). Shared starts made symmetric (also held while a
 rival's followed state lies in its start shared with the action, ``sharing.shared_until``): the
 held-out run 11 -> 7 (share radius 4: 4), but six gestures within 20% 0.125 -> 0.
+
+Seeds 107-112 (``bench/follow_seeds.py --sections=sequences``; twenty templates' longest wrong run
+3, 6, 4, 4, 5, 4), both 6-tick runs on 108 traced per tick:
+- getup wrist, circle, square, figure eight: the punch left ankle drove the getup wrist's
+  0.110-0.152, from the gesture's start. The getup was engaged, covered and not misshaped from
+  0.08, fitting *better* in shape by 16.7-25.7 nats, at probability 0.000-0.002: the punch's
+  Gaussian is narrower by 0.49-0.51 nats a sample. No rival twice over: under :data:`BROADER`,
+  and beyond LEAD of the punch's shape sum (the bound "either way"). It ended when the getup
+  reached probability 0.019 (a rival by probability, leading by 30 nats); the getup drove from
+  0.183.
+- jump ankle, circle, crawl ankle, kick wrist: the spin wrist drove the circle's 0.313-0.382.
+  The circle, a broader rival alike in shape, held it at 0.265-0.289. From 0.301 the spin led it
+  in shape by 6.2-17 nats (as on 102), the circle no rival, while the spin's size rose 1.10 ->
+  1.41 (its progress 0.24-0.29, its take misfit 0.12 -> 0.63) until misshaped at 1.5.
+Measured and not kept (the follower alone, ``--sections=sized,sequences`` on 107-112): broader
+rivals *ahead* in shape by LEAD or more counted from 0.45 nats a sample: runs 3, 6, 4, 2, 5, 4,
+but valid after 30% lower on every seed, mean 0.8745 -> 0.8729 (111: 0.8812 -> 0.8760); an
+action whose size moved by over 3% in three samples does not lead: runs 3, 6, 4, 2, 2, 2, but
+valid after 30% mean 0.8745 -> 0.8234, twenty within 20% 0.297 -> 0.260 (8%: runs 3, 6, 4, 4,
+5, 2, valid after 30% 0.8544): true actions' sizes move as much early on.
+Broader rivals ahead in shape by LEAD or more counted at BROADER too (the bound one way, follower
+and group): on seeds 101-112 runs 4 -> 3 on 106 and 110, no other run or within-20% share
+changed; but held-out valid after 30% 0.9022 -> 0.9013 (101: a 0.7x line held behind the square,
+0.611 -> 0.528) and 0.9055 -> 0.9044 (103), held-out bent 10% 0.4686 -> 0.4590; tuned, only
+after a gesture changed (mean 0.0639 -> 0.0627). Elsewhere the spin's rising size narrows its
+gap to the circle under BROADER (112: 0.63 -> 0.27 nats a sample over its 4-tick drive).
 """
 
 from __future__ import annotations
