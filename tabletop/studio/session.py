@@ -128,8 +128,9 @@ def unusable(folder: Path) -> str:
 
 
 def left_at_quit(folder: Path) -> Path | None:
-    """The take the latest session log in ``folder`` names as tried and not kept at quit (its
-    last line's ``take``), while that file is there; None otherwise (or unreadable)."""
+    """The take the latest session log in ``folder`` names as saved at quit (tried and not
+    kept, or still recorded: its last line's ``take``), while that file is there; None
+    otherwise (or unreadable)."""
     try:
         logs = sorted(Path(folder).glob("session-*.jsonl"))
         lines = logs[-1].read_text(encoding="utf-8").split("\n") if logs else []
@@ -173,10 +174,10 @@ class SessionLog:
         self._append(t)
 
     def save_take(self, suffix: str, text: str) -> str:
-        """A take tried and not kept at quit, written atomically beside the log as
-        ``session-STAMP-takeNNN`` + ``suffix`` (NNN: the log line that names it): its path,
-        or "" when it could not be written (said in the log). Not in any library: nothing
-        loads it; a designer gets it back from there."""
+        """A take tried and not kept, or still recorded, at quit, written atomically beside
+        the log as ``session-STAMP-takeNNN`` + ``suffix`` (NNN: the log line that names it):
+        its path, or "" when it could not be written (said in the log). Not in any library:
+        nothing loads it; a designer gets it back from there."""
         from tabletop.files import atomic_write_text
         path = self.folder / (self.path.with_suffix("").name + f"-take{self.lines + 1:03d}"
                               + suffix)
@@ -184,7 +185,7 @@ class SessionLog:
             self.folder.mkdir(parents=True, exist_ok=True)
             atomic_write_text(path, text)
         except OSError as exc:
-            log.warning("studio: the take tried was not saved: %s", self._why(exc, path))
+            log.warning("studio: the take was not saved: %s", self._why(exc, path))
             return ""
         return str(path)
 

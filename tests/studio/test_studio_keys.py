@@ -279,7 +279,7 @@ def test_a_session_log_that_cannot_be_written_is_said_once_and_the_studio_goes_o
     assert log_.failing
     with caplog.at_level("WARNING", logger="tabletop"):
         assert log_.save_take(".csv", "t\n0\n") == ""      # a take tried at quit: said
-    assert f"the take tried was not saved: {tmp_path / 'file'} is a file, not a " \
+    assert f"the take was not saved: {tmp_path / 'file'} is a file, not a " \
         "folder" in caplog.records[-1].getMessage()
     log_.folder = tmp_path / "studio"             # back: written, and said again if it fails
     log_.path = log_.folder / log_.path.name
