@@ -250,11 +250,6 @@ class Behavior:
         # it faster (step.py; generation.less_approach)
         approach = main_approach(self.main[:, :2], self.react[:, :2])
         self.main_approach = approach.tolist()
-        # how far the demonstrated main stepped at each sample (m; 0 at the first): the lover's
-        # world-place cap is raised only beside a live main no faster than this (step.py)
-        main_step = np.zeros(self.main.shape[0])
-        main_step[1:] = np.hypot(*np.diff(self.main[:, :2], axis=0).T)
-        self.main_step = main_step.tolist()
         # the main's disc (m): the reactor is kept out of it (step_detail.py, StepDetail._detail).
         # The personal space, or else the least distance its demonstration shows (the bully,
         # which charges into its main, the stalker, which keeps pace with it), as its
@@ -320,7 +315,7 @@ class Behavior:
             self.place_frame, self.bearing_turn, self.distance, f.rel_fwd, f.rel_left,
             f.v_react, self.own_steps, self.world_rel, self.span_step, ~main_still,
             self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle, lk.detail,
-            self.charge_end, self.charge_touch, approach, main_step)]
+            self.charge_end, self.charge_touch, approach)]
         rows = min(len(self.rows), len(self.texture_rows), len(self.own_steps))
         self.step_table = np.ascontiguousarray(np.hstack([c[:rows] for c in columns]))
         self.bearings = np.array(_bearings(72))     # fit_target's default 5 degree steps

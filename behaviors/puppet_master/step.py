@@ -99,7 +99,6 @@ class GenerationStep(StepDetail):
         self._mean_cap = math.inf          # the smoothed step's cap (generation.mean_capped)
         self._keep_length = 0.0            # the smooth's length kept up to this (_detail)
         step_cap = math.inf                # this raw step's cap, kept for the next two
-        carried = 0.0                      # a world place's step without its correction
         # Generate: toward the target relative position at the target velocity
         place, bearing_turn, dist, fwd_t, left_t, speed = b.rows[target]
         if place == PLACE_WORLD:               # holds its place while the main turns
@@ -134,11 +133,8 @@ class GenerationStep(StepDetail):
                 ax, ay = rx - mxp, ry - myp
                 rho = math.hypot(ax, ay)
                 ex, ey = (ax / rho, ay / rho) if rho > 1e-9 else (1.0, 0.0)
-                ux = k * (mx - mxp) + u_rad * ex - u_tan * ey       # the moment's own motion
-                uy = k * (my - myp) + u_rad * ey + u_tan * ex       # with its share carried
-                if math.hypot(mx - mxp, my - myp) <= b.main_step[target]:
-                    carried = math.hypot(ux, uy)    # beside a main no faster than the moment's
-                sx, sy = ux + gain * (tx - rx), uy + gain * (ty - ry)
+                sx = k * (mx - mxp) + u_rad * ex - u_tan * ey + gain * (tx - rx)
+                sy = k * (my - myp) + u_rad * ey + u_tan * ex + gain * (ty - ry)
                 if self._charge_end >= 0:
                     # in a charge only the main's step along the bearing is gone along with
                     # (the demonstrated share was a pushed main's): a live main walking past
@@ -359,8 +355,6 @@ class GenerationStep(StepDetail):
                     b.walks_with_main and place != PLACE_WORLD)):
                 if self._main_stopped(mx, my) if b.keeps_pace else self._main_stands(mx, my):
                     cap = min(cap, b.still_speed * self.dt)
-                    if cap < b.rows[target][5] * self.dt:     # held under the moment's pace
-                        carried = 0.0
             if place == PLACE_WORLD and self._charge_end < 0 and b.walks_with_main:
                 # a character that walks with its main (Behavior.walks_with_main: the lover) at
                 # a place held in the world: the cap holds the mean of its last three raw steps,
@@ -397,26 +391,7 @@ class GenerationStep(StepDetail):
                     if q != sm.i:
                         px += sm.xs[q]
                         py += sm.ys[q]
-                # at least the moment's own motion with its share of the live main's step (k x that
-                # step + its own, less the drift correction; at most the top speed), while the live
-                # main steps no farther than the moment's main did and the still cap does not hold
-                # the step under the moment's pace: at the moment's world speed the correction
-                # (0.057 m/s, mostly inward) spent the cap and cut the circling (the lover, seeds
-                # 0-5 slow, Python step: 0.364 rad/s uncapped, 0.299 capped). Raised beside any
-                # main, it outran fast ones (seeds 0-5, where the cap bound: live mains 0.22 m/s
-                # over 0.5 s on the fast paths, its moments' mains 0.16; raised on 48 / 62 / 71% of
-                # the slow / fast / loops steps, now 19 / 11 / 12%). bench/fidelity.py, seeds 0-5 /
-                # 40-51 / 128-139 / 300-311: 676 (8) / 1325 (35) / 1333 (24) / 1328 (26) -> 676 (8)
-                # / 1329 (35) / 1335 (23) / 1330 (25), pursuit and the others the same; the lover's
-                # misses 97 (22 the engine's) -> 89 (20): slow 43 -> 40 (orbit 14 -> 8, still/moving
-                # 10 -> 14; orbit 0.345 -> 0.352 rad/s, shown 0.457), fast 42 -> 41, loops 12 -> 8.
-                # Raised beside any main: 675 (7) / 1317 (33) / 1330 (22) / 1325 (24). Within the
-                # re-matching's chaos (the lover alone, Python step): the gate at 0.9 / 1.1 x the
-                # moment's main step, at its 0.5 s displacement, or at 0.9 / 1.1 x its mean step
-                # over 0.5 s each lose met or engine-only on a set (1 x that mean: 678 (8) / 1327
-                # (34) / 1333 (24) / 1332 (25)), as does no raise wherever the still cap applies
-                most = max(cap, min(carried, b.top_speed * self.dt))
-                sx, sy = mean_capped(px, py, sx, sy, most, sm.size)
+                sx, sy = mean_capped(px, py, sx, sy, cap, sm.size)
                 # the smoothed step within the caps its raw steps had: where the cap fell,
                 # a raw step longer than the cap left the next means beyond reach (a fast
                 # moment's 0.0095 m, then 0.0082: mean 0.0112 m, over the lover's largest

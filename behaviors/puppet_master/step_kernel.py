@@ -75,7 +75,7 @@ CONSTANTS = 57
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
-    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH, T_MAIN_STEP = range(23)
+    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH = range(22)
 
 PLACE_WORLD = 1.0
 GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
@@ -237,7 +237,6 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     mean_cap = math.inf
     step_cap = math.inf
     keep_length = 0.0                   # the smooth's length kept up to this (step.py)
-    carried = 0.0                       # a world place's step without its correction
     if gain > 0.0 and target > 0:
         mxp, myp = fs[MAIN_X], fs[MAIN_Y]
         if place == PLACE_WORLD:
@@ -248,11 +247,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                 ex, ey = ax / rho, ay / rho
             else:
                 ex, ey = 1.0, 0.0
-            ux = k * (mx - mxp) + u_rad * ex - u_tan * ey
-            uy = k * (my - myp) + u_rad * ey + u_tan * ex
-            if hypot(mx - mxp, my - myp) <= row[T_MAIN_STEP]:
-                carried = hypot(ux, uy)
-            sx, sy = ux + gain * (tx - rx), uy + gain * (ty - ry)
+            sx = k * (mx - mxp) + u_rad * ex - u_tan * ey + gain * (tx - rx)
+            sy = k * (my - myp) + u_rad * ey + u_tan * ex + gain * (ty - ry)
             if ints[CHARGE_END] >= 0:      # in a charge: the main's step along the bearing
                 along = (mx - mxp) * ex + (my - myp) * ey
                 sx -= k * ((mx - mxp) - along * ex)
@@ -292,8 +288,6 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                     c[KEEPS_PACE] != 0.0) else main_stands(recent, ints, mx, my,
                                                            c[STILL_DISTANCE]):
                 cap = _min(cap, c[STILL_SPEED] * dt)
-                if cap < row[T_SPEED] * dt:
-                    carried = 0.0
         if place == PLACE_WORLD and ints[CHARGE_END] < 0 and c[WALKS_WITH_MAIN] != 0.0:
             # the mean of three raw steps held to the cap (generation.mean_capped)
             size = smooth_x.size
@@ -303,9 +297,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                 if q != i:
                     px += smooth_x[q]
                     py += smooth_y[q]
-            # at least the moment's own motion with its carried share (step.py)
-            sx, sy = mean_capped(px, py, sx, sy, _max(cap, _min(carried, c[TOP_SPEED] * dt)),
-                                 size)
+            sx, sy = mean_capped(px, py, sx, sy, cap, size)
             mean_cap = _max(cap, _max(fs[CAP_1], fs[CAP_2]))
             keep_length = cap
         else:
