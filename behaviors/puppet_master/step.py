@@ -384,7 +384,17 @@ class GenerationStep(StepDetail):
                 # The cap x the live main's speed over the moment's main's (over 0.5 s, both
                 # walking) within 1 / 1.2-1.2, the lover alone on those seeds, one run, its
                 # misses (the engine's) against 36 (5): 65 (17); within 1.1 45 (6); that
-                # ratio's share k within 1.2 / 1.5 50 (6) / 75 (12). Not kept
+                # ratio's share k within 1.2 / 1.5 50 (6) / 75 (12). Not kept. The cap at least
+                # the moment's own motion with its carried share of the live main's step (no
+                # drift correction, at most the top speed), bench/fidelity.py seeds 0-5 / 40-51 /
+                # 128-139 / 300-311 met (the engine's) 676 (8) / 1325 (35) / 1333 (24) / 1328
+                # (26): raised beside any main 675 (7) / 1317 (33) / 1330 (22) / 1325 (24), the
+                # lover outran fast mains (fast-path speed W1 over its mean speed 0.342 against
+                # 0.296, seeds 0-5); raised only while the live main steps no farther than the
+                # moment's main 676 (8) / 1329 (35) / 1335 (23) / 1330 (25), but its slow-path
+                # orbit on 46 unseen paths (seeds 0-21, 40-51, 128-139) 0.341 rad/s against 0.343
+                # without the raise (shown 0.457), higher on 24 of 46: the orbit is not restored,
+                # the gain is the re-matching's spread. Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
