@@ -84,6 +84,15 @@ run 3): the zigzag's end drove the square's first three samples (0-0.019). Its e
 input moved 2.1-2.7 mm a sample, over two still radii, so neither the tempo rule nor
 :meth:`_arrived` applies); the follower was at 0.967 at the performer's last sample (``end``
 0.97), reached it one sample later, at the square's first, and the grace added two.
+:data:`END_GRACE` 1 instead (follower and compiled group alike; measured, not kept): the
+sequences' longest wrong runs, ``bench/follow_seeds.py --sections=sequences``, six gestures
+1/2/2/2/2/2 -> 1/1/1/1/1/2 (seeds 101-106) and 2/3/2/2/2/1 -> 1/2/2/1/1/1 (107-112), twenty
+templates 4/5/7/2/2/4 -> 3/5/7/1/2/4 and 3/6/4/4/5/4 unchanged, shares within 20% unchanged; but
+``bench/follow_quality.py``: valid after 30% at 0.7-1.4x 0.9117 -> 0.9047, held-out 0.9022 ->
+0.8978 (under its 0.9 target), holds 0.958 -> 0.951, pauses valid after 0.941 -> 0.929, bent 5%
+0.865 -> 0.860, aspect 1.1 0.890 -> 0.880; and
+``tests/mop/test_sequences.py``'s crawl handover test fails: with its rule off the run is
+2 ticks, no longer over 2.
 """
 
 from __future__ import annotations
