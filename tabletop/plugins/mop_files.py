@@ -376,6 +376,14 @@ def library_names(folder: Path, character: str,
     return names
 
 
+def template_table(samples: np.ndarray, names: tuple[str, ...], rate_hz: float
+                   ) -> tuple[tuple[str, ...], list[list[float]]]:
+    """A template CSV's header and rows: ``t`` (s, from 0 at ``rate_hz``) and the performer's
+    feature columns ``names``, as a kept take is saved and :func:`load_template` reads."""
+    t = np.arange(len(samples)) / rate_hz
+    return ("t",) + tuple(names), np.column_stack([t, samples]).tolist()
+
+
 def save_to_library(folder: Path, character: str, action: str, samples: np.ndarray,
                     names: tuple[str, ...], motion: str, rate_hz: float) -> str:
     """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
@@ -389,8 +397,7 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
         csv_name = f"{action}.csv"
         if action in library_names(folder, character, entries):
             raise NameTaken(f"{d}: {action!r} is in the library already; not written over")
-        t = np.arange(len(samples)) / rate_hz
-        write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
+        write_csv(d / csv_name, *template_table(samples, names, rate_hz))
         write_library(folder, character, entries + [{"name": action, "template": csv_name,
                                                      "motion": motion}], window=file.window())
     return f"kept {action} -> {motion} in {d}"

@@ -195,11 +195,11 @@ class MopTarget(RunOnlyTakes):
     def _template_csv(self) -> tuple[str, str]:
         """The stage's take as its keep saves the template: t and the performer's features."""
         from tabletop.files import format_csv
+        from tabletop.plugins.mop_files import template_table
         take = self.stage.take
         samples = np.asarray(take.samples(), dtype=float)
-        t = np.arange(len(samples)) / self.stage.rate_hz
         names = self.stage.performers[take.performer].names
-        return ".csv", format_csv(("t",) + tuple(names), np.column_stack([t, samples]).tolist())
+        return ".csv", format_csv(*template_table(samples, names, self.stage.rate_hz))
 
     def take_array(self) -> np.ndarray:
         take = self.stage.take
