@@ -154,6 +154,24 @@ def studio_targets(engines: Sequence[Engine], cfg: dict[str, Any], base: Path,
     return targets
 
 
+#: What a take saved at quit was, by the studio's state then (a session log's ``take_state``).
+LEFT_AS = {"trying": "take tried, not kept,", "training": "take still training",
+           "recording": "take still recorded",
+           "ready": "sequential take's main part (its reaction not recorded)"}
+
+
+def left_words(take: Path, state: str, reaction: Path | None, base: Path) -> str:
+    """The next start's line on the take the last session saved at quit
+    (:func:`~tabletop.studio.session.left_at_quit`'s): what it was and where it is."""
+    where = named_folder(take.parent, base)
+    if reaction is not None:
+        return (f"studio: the last session's sequential take, its reaction cut short at quit, "
+                f"is in {where}{take.name} (the main part) and {reaction.name} (the reaction so "
+                "far), not in the library")
+    return (f"studio: the last session's {LEFT_AS.get(state, 'take saved')} at quit is in "
+            f"{where}{take.name} (not in the library)")
+
+
 def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engines: bool = True,
                   replay: bool = False) -> Studio:
     """Put the studio on ``inst``'s loop: the machine and markers as one filter
@@ -170,8 +188,7 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
     # a replay's studio folder is a temporary one: the take was saved by the run it replays
     studio.save_take = None if replay else session.save_take
     if left is not None:     # the designer's work the last session left: where it is
-        said = (f"studio: the last session's take saved at quit is in "
-                f"{named_folder(left.parent, base)}{left.name} (not in the library)")
+        said = left_words(*left, base)
         log.info("%s", said)
         for sink in inst.loop.sinks:     # on the operator overlay until the next take
             if hasattr(sink, "notices"):  # (not the studio's line: a replay makes that again)

@@ -348,17 +348,21 @@ class Studio(LibraryCommands):
         if self.state == "idle":
             return
         left, tried = self.selected, self.state in ("trying", "training")
-        saved, why = "", ""
+        saved, why, react = "", "", ""
         if self._try is None:
             why = "" if tried else "nothing recorded yet (the countdown)"
         elif self.save_take is not None:
             saved, why = (self._save_tried(self.target), "") if tried else \
                 self._save_recorded(self.target)
             self._try.take = Path(saved).name if saved else ""
+            self._try.take_state = self.state if saved else ""
             if not tried and self.target is not None:
                 self._try.duration_s = round(self.target.seconds(), 3)
+            react = self._save_reaction(self.target) if saved and not tried else ""
+            self._try.take_reaction = Path(react).name if react else ""
         self._drop("quit" if tried or saved else "")
         said = f"; saved as {saved} (not in the library)" if saved else ""
+        said += f"; its reaction so far as {react}" if react else ""
         what = "tried, not kept," if tried else "recorded, not tried," if saved else "cancelled"
         if tried or saved:     # on the overlay while a kiosk's applied config edit rebuilds
             self._show(f"{left}: take {what.rstrip(',')}{said}", MESSAGE_S)
@@ -379,6 +383,17 @@ class Studio(LibraryCommands):
         except Exception:     # (a disk full): the quit goes on, the log says why none
             log.exception("studio: the take recorded was not saved")
             return "", "it could not be written"
+
+    def _save_reaction(self, target: Target | None) -> str:
+        """A sequential take's reaction cut short at quit (its main part saved), saved by
+        :attr:`save_take` beside it: its file, or "" (none, or not written: said in the log)."""
+        fn = getattr(target, "recorded_reaction", None)
+        try:
+            made = fn() if fn is not None else None
+            return self.save_take(*made) if made is not None and self.save_take else ""
+        except Exception:     # (a disk full): the quit goes on, the log says none
+            log.exception("studio: the reaction recorded was not saved")
+            return ""
 
     def _save_tried(self, target: Target | None) -> str:
         """The take ``target`` tries, saved by :attr:`save_take`: its file, or "" (none, or

@@ -172,8 +172,9 @@ def _a_recording(line: str) -> bool:
 
 
 #: The files the studio writes beside its session log ``session-STAMP.jsonl``: a try's review
-#: sheet, a take tried at quit (:meth:`tabletop.studio.session.SessionLog.save_take`).
-_BESIDE = re.compile(r"^(session-[0-9-]+)-(try[0-9]+\.png|take[0-9]+\.(csv|json))$")
+#: sheet, a take saved at quit (:meth:`tabletop.studio.session.SessionLog.save_take`; a
+#: sequential take's reaction cut short beside it, ``-react``).
+_BESIDE = re.compile(r"^(session-[0-9-]+)-(try[0-9]+\.png|take[0-9]+(-react)?\.(csv|json))$")
 
 
 def _beside_a_log(p: Path) -> str:

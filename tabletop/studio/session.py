@@ -4,7 +4,9 @@
 "duration_s", "samples", "training_s", "outcome" (kept | discarded | redone | too short |
 refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG file
 name, or ""), "take" (a quit's only: the file beside the log its take was saved in,
-:meth:`SessionLog.save_take`)}``; a library item renamed (F2, or its undo) is a line of its own,
+:meth:`SessionLog.save_take`), "take_state" (with "take": the studio's state it was saved in,
+trying | training | recording | ready), "take_reaction" (with "take": a sequential take's
+reaction cut short, its file)}``; a library item renamed (F2, or its undo) is a line of its own,
 outcome "renamed", ``name`` the new name and ``renamed_from`` the old (the reader gives a take
 kept earlier the name its folder has); so are a keep undone (U after K, outcome "keep undone"),
 an item deleted (Delete, "deleted") and its undo ("restored"), ``name`` the item's name (the
@@ -127,10 +129,11 @@ def unusable(folder: Path) -> str:
     return ""
 
 
-def left_at_quit(folder: Path) -> Path | None:
-    """The take the latest session log in ``folder`` names as saved at quit (tried and not
-    kept, or still recorded: its last line's ``take``), while that file is there; None
-    otherwise (or unreadable)."""
+def left_at_quit(folder: Path) -> tuple[Path, str, Path | None] | None:
+    """The take the latest session log in ``folder`` names as saved at quit (its last line's
+    ``take``), while that file is there: (its file, the studio's state it was saved in
+    (``take_state``: "" in a log older than that key), a sequential take's reaction cut short
+    (``take_reaction``'s file, while there, else None)); None otherwise (or unreadable)."""
     try:
         logs = sorted(Path(folder).glob("session-*.jsonl"))
         lines = logs[-1].read_text(encoding="utf-8").split("\n") if logs else []
@@ -141,7 +144,12 @@ def left_at_quit(folder: Path) -> Path | None:
             not isinstance(last.get("take"), str) or not last["take"]:
         return None
     take = logs[-1].parent / Path(last["take"]).name
-    return take if take.is_file() else None
+    if not take.is_file():
+        return None
+    state, react = last.get("take_state"), last.get("take_reaction")
+    react = logs[-1].parent / Path(react).name if isinstance(react, str) and react else None
+    return (take, state if isinstance(state, str) else "",
+            react if react is not None and react.is_file() else None)
 
 
 class SessionLog:
@@ -204,8 +212,8 @@ class SessionLog:
 
     def _append(self, t: Try) -> None:
         d = dataclasses.asdict(t)
-        for key in ("renamed_from", "take"):   # only a rename's, a quit's line has it
-            if not d[key]:
+        for key in ("renamed_from", "take", "take_state", "take_reaction"):
+            if not d[key]:      # only a rename's, a quit's line has it
                 del d[key]
         d["time"] = _dt.datetime.fromtimestamp(d.pop("started"), _dt.timezone.utc).isoformat(
             timespec="seconds")

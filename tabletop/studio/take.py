@@ -60,3 +60,6 @@ class Try:
     review: str = ""
     renamed_from: str = ""     # outcome "renamed": the item's name before (F2, or its undo)
     take: str = ""             # outcome "quit": the file the take tried was saved in, or ""
+    take_state: str = ""       # outcome "quit" with a take: the studio's state it was saved in
+                               # (trying | training | recording | ready)
+    take_reaction: str = ""    # and a sequential take's reaction cut short: its file

@@ -307,7 +307,8 @@ class PuppetMasterTarget(BehaviorShelf):
     def recorded_take(self) -> tuple[str, str] | str:
         """The take still recorded at quit, as :meth:`tried_take` gives one: its demonstration
         CSV; a sequential take's main part alone (its reaction not done: ``behave
-        --train-main``'s columns, times from 0); or why none (a take too short to train)."""
+        --train-main``'s columns, times from 0; a reaction under way is
+        :meth:`recorded_reaction`); or why none (a take too short to train)."""
         try:
             demo = self.demonstration()
         except InputError as exc:
@@ -317,6 +318,19 @@ class PuppetMasterTarget(BehaviorShelf):
         from tabletop.commands.behave import MAIN_COLUMNS
         from tabletop.files import format_csv
         return ".csv", format_csv(MAIN_COLUMNS, (demo - [demo[0, 0], 0, 0, 0]).tolist())
+
+    def recorded_reaction(self) -> tuple[str, str] | None:
+        """A sequential take's reaction under way at quit, beside its main part
+        (:meth:`recorded_take`): ("-react.csv", the CSV ``behave --train-react`` takes, on the
+        main part's times from 0, so the two pair); None without two samples of it."""
+        s = self.session
+        if not self.sequential or s.phase not in ("react", "done") or len(s.react) < 2 \
+                or not s.main:
+            return None
+        from tabletop.commands.behave import OUT_COLUMNS
+        from tabletop.files import format_csv
+        react = np.array(s.react, dtype=float) - [s.main[0][0], 0, 0, 0]
+        return "-react.csv", format_csv(OUT_COLUMNS, react.tolist())
 
     def revert(self) -> None:
         self.engine.hold, self.ghost, self._training = None, None, None

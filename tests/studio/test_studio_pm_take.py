@@ -10,6 +10,8 @@ import numpy as np
 from behaviors.puppet_master import designers
 from tabletop import library
 from tabletop.frames import Frame, Puck
+from tabletop.studio.build import left_words
+from tabletop.studio.session import left_at_quit
 
 from tests.studio.test_studio_keys import Bench, designer
 
@@ -255,6 +257,8 @@ def test_a_take_tried_at_quit_is_saved_beside_the_session_log(tmp_path, caplog):
     saved = bench.session.folder / line["take"]
     assert line["outcome"] == "quit" and saved.name == \
         bench.session.path.stem + "-take001.csv", line
+    assert left_words(*left_at_quit(saved.parent), tmp_path) == "studio: the last session's " \
+        f"take tried, not kept, at quit is in studio/{saved.name} (not in the library)"
     assert bench.studio.message == f"pet: take tried, not kept; saved as {saved} (not in the " \
         "library)"
     assert any(f"take tried, not kept, at quit; saved as {saved}" in r.getMessage()
@@ -309,6 +313,30 @@ def test_a_take_still_recorded_at_quit_is_saved_when_long_enough(tmp_path, caplo
     main = (bench.session.folder / line["take"]).read_text().splitlines()
     assert main[0] == "t,main_x,main_y,main_dir" and len(main) == 1 + 110, main[:2]
     assert [float(v) for v in main[1].split(",")] == [0.0, *demo[10, 1:4]]
+    assert line["take_state"] == "ready" and "take_reaction" not in line
+    # its reaction cut short (R again at frame 101; Esc 59 frames into the 90-frame
+    # playback): saved beside the main part, on its times, the two pair as behave's files
+    bench, (line,), text = quit_while(tmp_path / "r", demo, {10, 100, 101}, caplog,
+                                      sequential=True)
+    folder = bench.session.folder
+    react = folder / line["take_reaction"]
+    assert line["take_state"] == "recording" and react.name == line["take"][:-4] + "-react.csv"
+    assert f"its reaction so far as {react}" in text, text
+    rows = react.read_text().splitlines()
+    assert rows[0] == "t,react_x,react_y,react_dir" and 55 <= len(rows) - 1 <= 59, rows[:2]
+    assert [float(v) for v in rows[1].split(",")][1:] == list(demo[101, 4:7])
+    assert cli(["behave", "--train-main", str(folder / line["take"]), "--train-react",
+                str(react), "--input", str(tmp_path / "main.csv"),
+                "--out", str(tmp_path / "o2.csv")]) == 0
+    # the next start says what it was: tried, recorded, the main part alone, or both parts
+    said = left_words(*left_at_quit(folder), tmp_path / "r")
+    assert said == ("studio: the last session's sequential take, its reaction cut short at "
+                    f"quit, is in studio/{line['take']} (the main part) and {react.name} (the "
+                    "reaction so far), not in the library"), said
+    assert "'s sequential take's main part (its reaction not recorded) at quit is in " \
+        "studio/" in left_words(*left_at_quit(tmp_path / "s" / "studio"), tmp_path / "s")
+    assert "'s take still recorded at quit is in studio/" in left_words(
+        *left_at_quit(tmp_path / "a" / "studio"), tmp_path / "a")
     # too short to train (1.5 s of the 2 s a take needs): nothing saved, and why
     caplog.clear()
     bench, lines, text = quit_while(tmp_path / "c", demo[:80], {20}, caplog)

@@ -422,8 +422,10 @@ def test_review_and_replay_given_the_studios_other_files_name_the_one_to_give(tm
     log.write_text('{"target": "pet", "outcome": "quit", "duration_s": 4.0, '
                    '"take": "session-20260101-120000-take001.csv"}\n')
     (tmp_path / "session-20260101-120000-take001.csv").write_text("t,main_x\n0,0\n")
+    (tmp_path / "session-20260101-120000-take001-react.csv").write_text("t,react_x\n0,0\n")
     (tmp_path / "session-20260101-120000-try001.png").write_bytes(b"\x89PNG\r\n\x1a\n\0\0")
     for name, what in (("take001.csv", "a take saved at quit"),
+                       ("take001-react.csv", "a take saved at quit"),
                        ("try001.png", "a try's review sheet")):
         assert cli(["review", str(tmp_path / f"session-20260101-120000-{name}")]) == 2
         err = capsys.readouterr().err.splitlines()
