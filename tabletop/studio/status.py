@@ -13,8 +13,14 @@ def indicator(studio: Any, frame: Frame) -> CharacterState:
     """The indicator of ``studio`` (a :class:`~tabletop.studio.machine.Studio`, which imports
     this module): ``action`` = state, ``progress`` = countdown left (s) or recorded seconds,
     ``label`` = status line; ``action`` "quiet": a line for the operator overlay alone (the
-    studio draws nothing until a designer key)."""
+    studio draws nothing until a designer key but the messages said to it)."""
     target = studio.target
+    if studio.quiet and studio._t < studio._message_until:
+        # a message said to the designer (a library item changed elsewhere, a kiosk's config
+        # edit on the takes): on the table for its seconds all the same, alone (no key line)
+        return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
+                              color=(255, 60, 60), action="idle", valid=True,
+                              label=f"[{studio.selected or '-'}] {studio.message}")
     if studio.quiet:
         # nothing on the table until a designer key; a library file gone bad (edited by hand)
         # is on the operator overlay all the same: it was in the log alone

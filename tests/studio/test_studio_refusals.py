@@ -176,6 +176,44 @@ def test_tab_in_a_quiet_studio_shows_the_target_it_picked(tmp_path):
     assert label.startswith("[b] ") and "R record" in label, label
 
 
+def test_a_message_to_a_quiet_studio_is_on_the_table_for_its_seconds(tmp_path,
+                                                                      pygame_display):
+    """A studio outside studio mode drew nothing until a designer key, so what it said (the
+    behaviour in play deleted from the library elsewhere, a kiosk's config edit on the takes)
+    reached the log alone: the message is on the table for its seconds, then nothing again."""
+    import shutil
+
+    import pygame
+
+    from tabletop.renderer import Renderer
+    from tabletop.studio.draw import draw_studio
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "lover", designers.demonstrate("lover", seconds=3), {})
+    (e,) = build([{"kind": "puppet_master", "name": "a", "behavior": str(lib / "lover"),
+                   "designer": {"enabled": True, "library": str(lib),
+                                "background_training": False}}])
+    target = PuppetMasterTarget(e)
+    target.lib_poller.every_s = target.play_poller.every_s = 0.0   # (the loop: once a second)
+    studio = Studio([target], countdown_s=0.0, quiet=True)
+    renderer, surface = Renderer(TABLE, (640, 360)), pygame.Surface((640, 360))
+
+    def drawn(t: float) -> tuple[str, bool]:
+        studio.poll()
+        c = studio(Frame(seq=int(t * 10), t=t)).character("studio")
+        surface.fill((0, 0, 0))
+        draw_studio(surface, renderer, c)
+        return c.label, pygame.transform.average_color(surface)[:3] != (0, 0, 0)
+    assert drawn(1.0) == ("", False)
+    shutil.rmtree(lib / "lover")
+    said = ("[a] lover was removed from the library elsewhere; it plays on from memory, ] "
+            "plays another", True)
+    assert drawn(1.1) == drawn(5.9) == said
+    assert drawn(6.2) == ("", False) and studio.quiet
+
+
 def test_a_switch_with_nothing_kept_names_the_folder_it_looked_in(tmp_path):
     """] with nothing kept said "the library is empty", beside a MOP character that knows the
     actions of its config (those are no library items): the line names the folder it plays
