@@ -8,7 +8,8 @@ rules the kernels twin: with Python's, MOP's group fed two samples of 1e30 in a 
 ZeroDivisionError on every tick from there on while its followers went on), the machine code
 cached (in :data:`SHARED` under its stamp, else beside the source, else in numba's user-wide
 folder: the first that can be written) so that neither the installation's start nor a test
-worker compiles it (``make kernels`` builds the caches).
+worker compiles it (``make kernels`` builds the caches, and removes old versions of them from
+:data:`SHARED`: :mod:`behaviors.kernel_prune`).
 
 numba's cache trusts itself while the kernel's own file is unchanged, yet every compiled
 function the kernel calls from another file, and every constant it reads from one, is built
@@ -93,6 +94,16 @@ class StampedCache(caching.FunctionCache):
 
 
 @functools.lru_cache(maxsize=None)
+def used(folder: str) -> None:
+    """``folder`` of :data:`SHARED` marked used now (its time), once a process, as a kernel
+    cached there is loaded: :mod:`behaviors.kernel_prune` keeps the folders used lately."""
+    try:
+        os.utime(folder)
+    except OSError:     # not built yet (its first save makes it), or a read-only cache
+        pass
+
+
+@functools.lru_cache(maxsize=None)
 def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
     class Stamped:
         def get_source_stamp(self) -> bytes:
@@ -102,6 +113,7 @@ def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
         def __init__(self, py_func: Callable, py_file: str) -> None:
             super().__init__(py_func, py_file)
             self._cache_path = os.path.join(SHARED, stamp(covers).hex()[:20])
+            used(self._cache_path)
 
         @classmethod
         def from_function(cls, py_func: Callable, py_file: str) -> Any:
