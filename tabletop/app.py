@@ -202,6 +202,9 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation;
     ``keeping``: the names of characters whose behaviour read before plays on in that case
     (:func:`tabletop.studio.reloader.keep_playing` says so), not said to start without it."""
+    from tabletop.config_checks import unmoved_engine_pucks
+    for said in unmoved_engine_pucks(cfg):
+        log.warning("%s", said)
     ctx = _context(cfg) if prepared is None else prepared[0]
     ctx.shared["kiosk_start"] = kiosk_start
     ctx.shared["keeping"] = frozenset(keeping)

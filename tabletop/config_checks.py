@@ -197,3 +197,20 @@ def _check_puck_map(cfg: dict, controls: dict[int, str], ctx: Context) -> None:
             raise ctx.error(where, f"marker {marker} is the studio's control marker "
                                    f"{controls[marker]}; as puck {to} the studio would never see "
                                    "it: map another marker (or set that control to null)")
+
+
+#: Sources whose pucks the config lists: no other puck ever arrives from them.
+LISTED_SOURCES = ("scripted", "synthetic_camera")
+
+
+def unmoved_engine_pucks(cfg: dict) -> list[str]:
+    """What to warn of: a puck an engine binds (:func:`_engine_pucks`) that no source moves,
+    when every source is one whose pucks the config lists (:data:`LISTED_SOURCES`); its
+    character waits for it for ever (a camera, OSC or serial source may bring any puck)."""
+    if not cfg["sources"] or any(s["kind"] not in LISTED_SOURCES for s in cfg["sources"]):
+        return []
+    moved = sorted({puck for *_, puck in moved_pucks(cfg)})
+    listed = ", ".join(map(str, moved)) or "none"
+    return [f"{key}: puck {puck} is moved by no source (the sources move pucks {listed}); "
+            "what waits for it never moves" for key, puck in _engine_pucks(cfg)
+            if puck not in moved]

@@ -521,3 +521,23 @@ def test_a_library_file_given_as_the_config_says_what_it_is(tmp_path, capfd):
             f"config; an engine plays its folder (behavior: {folder})" in one_line(err), err
         code, err = cli(capfd, *command, "--config", actions)
         assert code == 2 and f"{actions}: a MOP character's actions file" in one_line(err), err
+
+
+def test_a_puck_no_source_moves_is_warned_of(tmp_path):
+    """An engine's puck that none of the config's listed-puck sources moves (puck 3 with a
+    synthetic camera of pucks 1 and 2) started without a word: the character never moved.
+    It is warned of at start, naming the key; a camera may bring any puck: no warning."""
+    from tabletop.config import validate_config
+    from tabletop.config_checks import unmoved_engine_pucks
+
+    def said(source: dict, designer: dict) -> list[str]:
+        return unmoved_engine_pucks(validate_config({"sources": [source], "engines": [
+            {"kind": "puppet_master", "name": "lover", "main": {"puck": 3},
+             "designer": designer}]}, "c.yaml", tmp_path))
+    synthetic = {"kind": "synthetic_camera", "pucks": [1, 2]}
+    assert said(synthetic, {"enabled": True, "main_puck": 3, "react_puck": 2}) == [
+        f"engines[0].{k}: puck 3 is moved by no source (the sources move pucks 1, 2); what "
+        "waits for it never moves" for k in ("main.puck", "designer.main_puck")]
+    pucks = {"enabled": True, "main_puck": 1, "react_puck": 2}
+    assert said({"kind": "scripted", "pucks": [1, 2, 3]}, pucks) == []
+    assert said({"kind": "camera"}, pucks) == []
