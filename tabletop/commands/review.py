@@ -24,7 +24,9 @@ def main(args: argparse.Namespace) -> int:
     columns = int(number_in_range(args.columns, "--columns", "sheets per row", 1, 1e6,
                                   integer=True))
     if args.session.is_dir():     # also '' (the current folder): it has no name to derive --out
-        raise InputError(f"{args.session}: is a folder, expected a studio session log (.jsonl)")
+        logs = sorted(args.session.glob("session-*.jsonl"))   # (a studio folder: its latest)
+        raise InputError(f"{args.session}: is a folder, expected a studio session log (.jsonl)"
+                         + (f"; its latest is {logs[-1]}" if logs else ""))
     out = args.out or args.session.with_name(args.session.stem + "-sheet.png")
     png_output(out, "--out", InputError, inputs=(args.session,), example="sheet.png")
     print(f"{out}: {contact_sheet(args.session, out, columns)}")

@@ -424,6 +424,9 @@ def test_review_and_replay_given_the_studios_other_files_name_the_one_to_give(tm
     (tmp_path / "session-20260101-120000-take001.csv").write_text("t,main_x\n0,0\n")
     (tmp_path / "session-20260101-120000-take001-react.csv").write_text("t,react_x\n0,0\n")
     (tmp_path / "session-20260101-120000-try001.png").write_bytes(b"\x89PNG\r\n\x1a\n\0\0")
+    assert cli(["review", str(tmp_path)]) == 2       # the studio folder: its latest log named
+    assert capsys.readouterr().err.splitlines()[-1].endswith(
+        f"{tmp_path}: is a folder, expected a studio session log (.jsonl); its latest is {log}")
     for name, what in (("take001.csv", "a take saved at quit"),
                        ("take001-react.csv", "a take saved at quit"),
                        ("try001.png", "a try's review sheet")):
