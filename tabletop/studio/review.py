@@ -280,6 +280,20 @@ PNG_LEVEL = 3
 0.66 / 0.74 / 1.20 s CPU to 9.33 / 8.90 / 9.45 MB at levels 1 / 3 / 6 (6: Pillow's default)."""
 
 
+def caption(t: dict) -> str:
+    """A try's two lines on the contact sheet: target, outcome, name; seconds, samples and
+    training time, or for a take saved at quit before it was tried (``take_state``
+    recording or ready: never trained, its samples in the file) the file it is in (beside
+    the log, named after it as the sheet's title: ``takeNNN.csv``)."""
+    head = f"{t['target']} {t.get('outcome', '')} {t.get('name', '')}\n" \
+        f"{t.get('duration_s', 0):.1f} s, "
+    if t.get("take_state") in ("recording", "ready") and isinstance(t.get("take"), str):
+        return head + f"recorded, not tried: {t['take'].rsplit('-', 1)[-1]}" + (
+            " and its reaction" if t.get("take_reaction") else "")
+    return head + f"{t.get('samples', 0)} samples, " \
+        f"trained in {t.get('training_s', 0) * 1e3:.0f} ms"
+
+
 def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
     """Every try's review sheet (or its caption alone when it has none, or a damaged one) on
     one PNG, ``columns`` cells 400 px wide a row under the session's name and
@@ -331,11 +345,8 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
             ix, iy = x0 + (box_w - w) // 2, round(y0 + caption_h + (box_h - h) / 2)
             pasted.append((img.resize((w, h), Image.Resampling.LANCZOS), ix, iy))
             caption_y = iy - caption_h
-        caption = (f"{t['target']} {t.get('outcome', '')} {t.get('name', '')}\n"
-                   f"{t.get('duration_s', 0):.1f} s, {t.get('samples', 0)} samples, "
-                   f"trained in {t.get('training_s', 0) * 1e3:.0f} ms")
         fig.text((x0 + box_w / 2) / width, 1 - (caption_y + caption_h - PAD_PX) / height,
-                 caption, fontsize=CAPTION_PT, ha="center", va="bottom")
+                 caption(t), fontsize=CAPTION_PT, ha="center", va="bottom")
     canvas = FigureCanvasAgg(fig)
     canvas.draw()
     pixels = np.asarray(canvas.buffer_rgba())[..., :3].copy()

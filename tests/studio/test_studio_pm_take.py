@@ -328,6 +328,8 @@ def test_a_take_still_recorded_at_quit_is_saved_when_long_enough(tmp_path, caplo
     assert cli(["behave", "--train-main", str(folder / line["take"]), "--train-react",
                 str(react), "--input", str(tmp_path / "main.csv"),
                 "--out", str(tmp_path / "o2.csv")]) == 0
+    from tabletop.studio.review import caption            # the contact sheet: no training
+    assert caption(line).endswith(", recorded, not tried: take001.csv and its reaction")
     # the next start says what it was: tried, recorded, the main part alone, or both parts
     said = left_words(*left_at_quit(folder), tmp_path / "r")
     assert said == ("studio: the last session's sequential take, its reaction cut short at "
