@@ -351,7 +351,9 @@ class Studio(LibraryCommands):
         saved, why, react = "", "", ""
         if self._try is None:
             why = "" if tried else "nothing recorded yet (the countdown)"
-        elif self.save_take is not None:
+        elif self.save_take is None:      # a replay's: the run it replays saved it
+            why = "" if tried else "a replay saves no takes (the run it replays did)"
+        else:
             saved, why = (self._save_tried(self.target), "") if tried else \
                 self._save_recorded(self.target)
             self._try.take = Path(saved).name if saved else ""
@@ -363,7 +365,8 @@ class Studio(LibraryCommands):
         self._drop("quit" if tried or saved else "")
         said = f"; saved as {saved} (not in the library)" if saved else ""
         said += f"; its reaction so far as {react}" if react else ""
-        what = "tried, not kept," if tried else "recorded, not tried," if saved else "cancelled"
+        what = "tried, not kept," if tried else "recorded, not tried," if saved or (
+            self.save_take is None and why.startswith("a replay")) else "cancelled"
         if tried or saved:     # on the overlay while a kiosk's applied config edit rebuilds
             self._show(f"{left}: take {what.rstrip(',')}{said}", MESSAGE_S)
         log.info("studio: %s: take %s at quit%s%s", left, what, said,

@@ -302,7 +302,7 @@ def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tm
     assert len(said) == 1 and "rate_hz: expected a number" in said[0], said
 
 
-def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_path):
+def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_path, caplog):
     """A take tried at quit is saved beside the session log; the next start says where, in
     the log and on the operator overlay until the next take (not on the studio's line, which
     a replay makes again), and says nothing once the file is gone."""
@@ -368,4 +368,13 @@ def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_pa
     assert studio.state == "trying"
     studio.close()
     assert studio.tries[-1].outcome == "quit" and studio.tries[-1].take == ""
+    assert not list(studio_dir.glob("*-take*")), list(studio_dir.iterdir())
+    view, studio = started(replay=True)      # still recorded: why none, not "cancelled"
+    for i, row in enumerate(demo[:140]):
+        studio(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                     commands=("designer.record",) if i == 40 else ()))
+    with caplog.at_level("INFO", logger="tabletop"):
+        studio.close()
+    assert "studio: pet: take recorded, not tried, at quit; nothing saved: a replay saves no " \
+        "takes (the run it replays did)" in caplog.text, caplog.text
     assert not list(studio_dir.glob("*-take*")), list(studio_dir.iterdir())
