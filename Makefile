@@ -66,9 +66,9 @@ BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "$(PM_AND_BENCH)" & pm=$$!; \
 	$(PY) -c "$(MOP_STEPS)" && wait $$view && wait $$pm && touch $(KERNELS) \
-	&& $(PY) -m behaviors.kernel_prune
+	&& { $(PY) -m behaviors.kernel_prune || true; }
 # (kernel_prune then removes old versions of them from ~/.cache/tabletop/kernels: kept are the
-# last three of each kernel and any used within a week)
+# last three of each kernel and any used within a week; the kernels built stand if it fails)
 # (make decides before the install runs: the test skips a build the install has just made)
 KERNEL_SOURCES = behaviors/kernel_cache.py tabletop/drawing/*.py behaviors/mop/*.py \
 	behaviors/puppet_master/*.py bench/motions.py
