@@ -357,7 +357,9 @@ class Studio(LibraryCommands):
             saved, why = (self._save_tried(self.target), "") if tried else \
                 self._save_recorded(self.target)
             self._try.take = Path(saved).name if saved else ""
-            self._try.take_state = self.state if saved else ""
+            # (the countdown before a take's next part: it waits between parts, "ready")
+            self._try.take_state = "" if not saved else "ready" if self._part and \
+                self.state == "countdown" else self.state
             if not tried and self.target is not None:
                 self._try.duration_s = round(self.target.seconds(), 3)
             react = self._save_reaction(self.target) if saved and not tried else ""

@@ -277,9 +277,12 @@ def test_a_take_tried_at_quit_is_saved_beside_the_session_log(tmp_path, caplog):
 def quit_while(tmp_path, demo, keys, caplog, **extra):
     """Step ``demo`` with R at the frames ``keys``, then Esc (the studio's close): (the bench,
     its session log's lines, the log's text)."""
+    countdown = dict(extra.pop("countdown", ()))     # frame -> the countdown set and R pressed
     (e,) = designer(tmp_path, **extra)
     bench = Bench([e], tmp_path)
     for i, row in enumerate(demo):
+        if i in countdown:
+            bench.studio.countdown_s, keys = countdown[i], {*keys, i}
         bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
                          commands=("designer.record",) if i in keys else ()))
     with caplog.at_level("INFO", logger="tabletop"):
@@ -314,6 +317,10 @@ def test_a_take_still_recorded_at_quit_is_saved_when_long_enough(tmp_path, caplo
     assert main[0] == "t,main_x,main_y,main_dir" and len(main) == 1 + 110, main[:2]
     assert [float(v) for v in main[1].split(",")] == [0.0, *demo[10, 1:4]]
     assert line["take_state"] == "ready" and "take_reaction" not in line
+    bench, (line,), _ = quit_while(tmp_path / "w", demo[:110], {10, 100}, caplog,
+                                   sequential=True, countdown=[(105, 5.0)])
+    assert bench.studio.state == "idle" and line["take_state"] == "ready", line   # (counting
+    # down to the reaction: the take still waits between its parts)
     # its reaction cut short (R again at frame 101; Esc 59 frames into the 90-frame
     # playback): saved beside the main part, on its times, the two pair as behave's files
     bench, (line,), text = quit_while(tmp_path / "r", demo, {10, 100, 101}, caplog,
