@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S, TOUCH_M
+from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S
 from behaviors.puppet_master.generation import limit_turn
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, desired_look
 from tabletop.frames import wrap_angle
@@ -138,7 +138,8 @@ class StepSenses:
         still = self._main_stands(mx, my)
         ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
         if b.scales.since > 0.0:    # the steps since the last push (features.since_step)
-            self._since = ft.since_step(self._since, math.hypot(fwd, left), TOUCH_M,
+            # a live push: nearer than Behavior.live_touch (why: there)
+            self._since = ft.since_step(self._since, math.hypot(fwd, left), b.live_touch,
                                         b.since_clip)
             ft.since_row(self._xs, b.scales, self._since, ft.since_column(b.scales))
         ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)
