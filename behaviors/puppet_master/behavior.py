@@ -212,8 +212,9 @@ class Behavior:
         # bench/fidelity.py --seeds 0-5 / 40-51 / 128-139 / 300-311: met (the engine's alone)
         # 676 (8) / 1325 (35) / 1333 (24) / 1328 (26) -> 677 (7) / 1328 (31) / 1336 (21) /
         # 1330 (24), the other characters and the pursuit the same to the last digit.
-        # Measured too: under 0.0725 m 2 (2) / 7 (5) / 4 (3) / 1 (1); 0.07 m 1 (1) / 4 (3) / 4
-        # (3) / 2 (2); PUCK_M in the demonstration's count as well (no difference between
+        # Measured too: under 0.0775 m 4 (4) / 8 (7) / 7 (7) / 2 (2) (contact 0.032 / 0.039 /
+        # 0.034); 0.0725 m 2 (2) / 7 (5) / 4 (3) / 1 (1); 0.07 m 1 (1) / 4 (3) / 4 (3) / 2 (2);
+        # PUCK_M in the demonstration's count as well (no difference between
         # the two reads) 3 (2) / 8 (8) / 6 (5) / 3 (3); for the bully (charging) too, under
         # 0.075 / 0.07 m its misses 0 / 6 / 5 / 9 -> 1 / 8 / 7 / 7, 3 / 4 / 10 / 4 (its
         # slow-path still/moving). Also measured, not kept: the count restarted where the
