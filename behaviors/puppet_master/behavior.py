@@ -211,7 +211,8 @@ class Behavior:
         # 0.098, seed 5 loops 0.064), where 15 of its 19 were under it.
         # bench/fidelity.py --seeds 0-5 / 40-51 / 128-139 / 300-311: met (the engine's alone)
         # 676 (8) / 1325 (35) / 1333 (24) / 1328 (26) -> 677 (7) / 1328 (31) / 1336 (21) /
-        # 1330 (24), the other characters and the pursuit the same to the last digit.
+        # 1330 (24), the other characters and the pursuit the same to the last digit. The
+        # friend on seeds 8-13 / 26-31 / 60-71 (compiled): 1 (1) / 0 / 9 (7) -> 0 / 0 / 7 (5).
         # Measured too: under 0.0775 m 4 (4) / 8 (7) / 7 (7) / 2 (2) (contact 0.032 / 0.039 /
         # 0.034); 0.0725 m 2 (2) / 7 (5) / 4 (3) / 1 (1); 0.07 m 1 (1) / 4 (3) / 4 (3) / 2 (2);
         # PUCK_M in the demonstration's count as well (no difference between
