@@ -39,6 +39,7 @@ STOP_SPAN_S = 0.2     # s: a character that stops with its main (Behavior.keeps_
 # run, 32 (19) both
 FOLLOW_SHARE = 0.5    # share of the main's motion above which a reactor follows its main
 TOUCH_M = 0.08        # m: two pucks (0.075 m across) touching, centre to centre
+PUCK_M = 0.075        # m: a puck's width, two pucks' centres at touch without slack
 SPACE_PERCENTILE = 1.0  # the demonstrated distance to the main a personal space keeps
 MIN_OWN_TOUCHES = 2    # contacts a character made of its own accord (demonstrated.own_touches:
 # its own velocity towards its main over the 0.3 s before the touch above its main's towards

@@ -28,7 +28,7 @@ import numpy as np
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.behavior import Behavior, DemonstrationError  # noqa: F401
-from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S, TOUCH_M,
+from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S,
                                                still_span)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
 from behaviors.puppet_master.generation import StepSmoother, target_position
@@ -195,7 +195,7 @@ class Reactor(GenerationStep):
         c[sk.STRAIGHTNESS] = b.straightness
         c[sk.CIRCLING] = float(b.circling)
         c[sk.MAIN_DISC] = b.main_disc
-        c[[sk.S_SINCE, sk.SINCE_CLIP, sk.TOUCH]] = b.scales.since, b.since_clip, TOUCH_M
+        c[[sk.S_SINCE, sk.SINCE_CLIP, sk.TOUCH]] = b.scales.since, b.since_clip, b.live_touch
         span = min(b.stop_span, self._main_recent.maxlen - 1)    # as StepSenses._main_stopped
         c[[sk.STOP_SPAN, sk.STOP_DISTANCE]] = span, STILL_MPS * span / p.rate_hz
         self._smooth_x = np.zeros(p.smooth)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S, TOUCH_M
+from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S
 from behaviors.puppet_master.generation import limit_turn
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, desired_look
 from tabletop.frames import wrap_angle
@@ -40,7 +40,15 @@ class StepSenses:
 
     def _main_stands(self, mx: float, my: float) -> bool:
         """Whether the main at (mx, my) is within the still distance (STILL_MPS over
-        STILL_SPAN_S, metres) of the oldest of its last positions (``_main_recent``)."""
+        STILL_SPAN_S, metres) of the oldest of its last positions (``_main_recent``).
+
+        Read between the means of the newest and the oldest 3 positions instead (and so in
+        the demonstration's features.main_still), against the resampler's jitter of a standing
+        hand: Python step, seeds 0-5 / 40-51 / 128-139 / 300-311, misses (the engine's alone)
+        of the stalker and the lover 20 (4) / 58 (20) / 40 (11) / 40 (15) -> 24 (7) / 64 (23)
+        / 40 (11) / 39 (13); the afraid one's open paths 21 (1) / 44 (3) / 55 (2) / 61 (3) ->
+        27 (1) / 46 (1) / 50 (2) / 65 (2), chased 1 / 11 / 10 / 12 -> 5 / 11 / 10 / 13. Not
+        kept."""
         ox, oy = self._main_recent[0]
         return math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
 
@@ -138,7 +146,8 @@ class StepSenses:
         still = self._main_stands(mx, my)
         ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
         if b.scales.since > 0.0:    # the steps since the last push (features.since_step)
-            self._since = ft.since_step(self._since, math.hypot(fwd, left), TOUCH_M,
+            # a live push: nearer than Behavior.live_touch (why: there)
+            self._since = ft.since_step(self._since, math.hypot(fwd, left), b.live_touch,
                                         b.since_clip)
             ft.since_row(self._xs, b.scales, self._since, ft.since_column(b.scales))
         ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)

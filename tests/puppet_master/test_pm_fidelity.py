@@ -38,8 +38,9 @@ KNOWN_MISSES = {
     # features.main_still) and contact (0.0 against 0.022) stay missed. The friend's darts
     # timed by the steps since its last touch (behavior.py, Behavior.circling): its contact
     # missed on 4 instead of 9 of the 54 paths of seeds 0-5, 8-13, 26-31, seed 0's loops
-    # among the 4 (0.019, limits 0.021-0.061; 0.022 before, its designer 0.028)
-    "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact"}},
+    # among the 4 (0.019, limits 0.021-0.061; 0.022 before, its designer 0.028); met since
+    # its live push is counted where the pucks touch (Behavior.live_touch): 0.025
+    "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
     "stalker": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact"}},
     # (the afraid demonstration with the chasing hand of chased.py). Its targets kept off the
     # edges (Params.edge_percentile), it leaves the walls on these paths, whose mains never
