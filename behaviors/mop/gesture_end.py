@@ -93,6 +93,21 @@ templates 4/5/7/2/2/4 -> 3/5/7/1/2/4 and 3/6/4/4/5/4 unchanged, shares within 20
 0.865 -> 0.860, aspect 1.1 0.890 -> 0.880; and
 ``tests/mop/test_sequences.py``'s crawl handover test fails: with its rule off the run is
 2 ticks, no longer over 2.
+The grace counted from where the performer's own motion reached the end (follower and compiled
+group alike; measured, not kept): one sample less where the sample before lay within 2 still
+radii (per column) of the template's last point while the tempo followed would have carried the
+action to ``end`` a sample ago (:func:`~behaviors.mop.handover.tempo_ended`, without its slowed
+input). ``bench/follow_seeds.py --sections=sequences``: six gestures' longest wrong runs
+1/2/2/2/2/2 -> 1/2/2/2/1/2 (seeds 101-106) and 2/3/2/2/2/1 -> 2/2/2/2/2/1 (107-112; seed
+108's zigzag drove the square's first two samples), twenty templates unchanged;
+``bench/follow_quality.py`` (tuned / held-out): an unrelated stroke after a gesture, worst
+0.165 / 0.189 unchanged, mean 0.0639 / 0.0620 -> 0.0639 / 0.0618; but valid after 30% at
+0.7-1.4x 0.9117 -> 0.9115 / 0.9022 (``bench/follow_seeds.py``: seed 103 0.9055 -> 0.9050),
+pauses valid after 0.9411 -> 0.9397 / 0.9288, bent 10% 0.6208 -> 0.6203 (the figure eight at
+1.4x, its performer within 2 still radii of its last point from three samples before the
+follower reached ``end``, lost a tick); holds and unrelated motions unchanged, and the
+sequences' shares within 20%. The sample before at the last point alone (no tempo): seed 108's
+zigzag drove one sample, but valid after 30% 0.9117 -> 0.9103 / 0.9022 -> 0.9009.
 """
 
 from __future__ import annotations
