@@ -73,6 +73,34 @@ changed; but held-out valid after 30% 0.9022 -> 0.9013 (101: a 0.7x line held be
 0.611 -> 0.528) and 0.9055 -> 0.9044 (103), held-out bent 10% 0.4686 -> 0.4590; tuned, only
 after a gesture changed (mean 0.0639 -> 0.0627). Elsewhere the spin's rising size narrows its
 gap to the circle under BROADER (112: 0.63 -> 0.27 nats a sample over its 4-tick drive).
+Traced again (``bench/follow_seeds.py --sections=sequences``, the follower per tick): on seeds 110
+and 112 the spin wrist drove the circle's 0.362-0.393 and 0.365-0.395 (4 ticks each) while its
+progress stalled at 0.28-0.29 and its size rose 1.10 -> 1.27 and 1.20 -> 1.36 (110: the circle
+fitting better by 5.7-30 nats, beyond LEAD; 112: within LEAD for its first two ticks, their gap
+under BROADER at the spin's size); on 103 the punch ankle drove the getup wrist's 0.107-0.171 (7
+ticks) at its size 0.98 -> 0.92, the getup engaged, covered and fitting better by 22-35 nats (RMS
+2.0-2.6 still radii against the punch's 3.6-4.2). Measured and not kept (the follower alone):
+broader rivals ahead by LEAD or more counted from 0.45 nats a sample (as above) end the punch's runs
+(103: 7 -> 0 and 4 -> 2; 108: 6 -> 2), but on the sized performances (seed 111, valid after 30%
+0.8812 -> 0.8760) the getup wrist fits the punch ankle's *own* performances better by 5-34 nats too
+(RMS 1.5-3 still radii, the punch's 2-4): neither the shape nor the fit tells the two apart. An
+action that stalls while its size grows does not drive (its log size up by over 0.07 in two samples
+while its progress advanced under 0.03): runs 110 4 -> 2, 112 4 -> 1, 108 6 -> 3, 102 5 -> 3, but
+seed 111's valid after 30% 0.8812 -> 0.8683: on the sized performances the spin stalls so at
+0.27-0.29 of its path (at 0.9-1.8x), and figure eights, lines and punch ankles while they drive:
+actions' sizes grow as their progress stalls on their own performances too.
+Each template's breadth averaged over the samples since the gesture began, forgotten over 20
+samples (the evidence's memory), instead of at its size now (follower and group): the spin is
+judged as narrow as it was, 112's run 4 -> 2 (draws 65, 123, 212 of ``back_to_back`` among the
+held-out twenty: 4 -> 1, 4 -> 2, 3 -> 0), every other run on 101-112 and every within-20% share,
+unrelated and holds figure unchanged; but valid after 30% lower on 9 of the 12 seeds (102
+0.8749 -> 0.8746, 110 0.8877 -> 0.8873, 111 0.8812 -> 0.8807). ``bench/follow_quality.py``:
+tuned valid after 30% 0.9117 -> 0.9119, held-out bent 5% 0.7450 -> 0.7444, the rest identical.
+Not forgotten (the plain mean): the same runs, valid after 30% lower on 10 of the 12 seeds (104
+0.8871 -> 0.8867); where it changed the rivals on seed 111's sized performances, spins at
+1.2-1.4x were held by the circle (gap 0.33-0.48 at their size, 0.70-0.76 as the mean) and jump
+ankles at 1.2-1.5x by the square and the circle: actions whose size grew, as the spin grown on
+the circle.
 """
 
 from __future__ import annotations
