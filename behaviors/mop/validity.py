@@ -74,6 +74,10 @@ size floor (not kept either; ``bench/follow_seeds.py --sections=unrelated,sized,
 a 0.7x crawl wrist refused at 0.19, sized afresh (1.0 -> 0.70) while other actions led, came back
 on track at 0.57 and its slow stroke read as a rest (valid after 30% 0.683 -> 0.524, the carry
 alone); ``tests/mop`` failed 4 with both (the stalls, slow take, smaller size, drift tests).
+The carry counted on after another action led (the crawl wrist's return kept), alone: tuned valid
+after 30% identical, holds and back to back identical on 101-106, but held-out lower on every
+seed (0.9022 / 0.8749 / 0.9055 / 0.8871 / 0.8818 / 0.8744 -> 0.9012 / 0.8724 / 0.9042 / 0.8866 /
+0.8765 / 0.8739; not traced per performance), the wander's worst alone lowered.
 
 Tempo (:func:`slow_take`): a new action is taken only if, over the last :data:`TEMPO_SAMPLES`
 samples, its followed state moved at least :data:`LEAST_TEMPO` states per sample (either way),
