@@ -123,8 +123,9 @@ where it starts (the diagonal's eight shrinks to 0.97 along the stroke and grows
 ``bench/follow_seeds.py --sections=unrelated`` 101 0.0986 -> 0.0944, 103's diagonal 0.1049 ->
 0.1006, 105 0.1080 -> 0.1017 (``tests/mop/test_overrun.py``'s diagonals 65 -> 59 valid, its
 eights unchanged); but a 1.0x getup wrist (tuned), its estimate converging back up to 1.0 from
-below at a turn, lost 3 samples (valid after 30% 0.887 -> 0.839): an estimate converges to the
-truth from either side, so where it started tells nothing. Figures with the carry counted while
+below at a turn, lost 3 samples (valid after 30% 0.887 -> 0.839), held-out (``--sections=sized``)
+101 0.9022 -> 0.9018, 106 0.8744 -> 0.8741: an estimate converges to the truth from either side,
+so where it started tells nothing. Figures with the carry counted while
 driving as well: :mod:`behaviors.mop.validity` (stalls).
 """
 
