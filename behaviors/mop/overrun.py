@@ -117,6 +117,16 @@ true ticks valid after 30% (held-out seed 106, sized and holds, 6330 ticks: gest
 0.7-0.85x converge through their first half). The size of the input's last 6 samples' chord
 against the followed states' (log, over the estimate) swings -0.25 .. 0.13 on the spiral and
 past -6 (5%) and 0.96 (95%) on true ticks (the followed state lags, then leaps).
+Measured and not kept: :data:`GROWN` sparing a sample only while the estimate is at least 1.0,
+where it starts (the diagonal's eight shrinks to 0.97 along the stroke and grows back 0.979 ->
+1.004 while the input runs past its turn: 105 at 1.4x; 103's 0.7x sample 46, 0.959 -> 0.972):
+``bench/follow_seeds.py --sections=unrelated`` 101 0.0986 -> 0.0944, 103's diagonal 0.1049 ->
+0.1006, 105 0.1080 -> 0.1017 (``tests/mop/test_overrun.py``'s diagonals 65 -> 59 valid, its
+eights unchanged); but a 1.0x getup wrist (tuned), its estimate converging back up to 1.0 from
+below at a turn, lost 3 samples (valid after 30% 0.887 -> 0.839), held-out (``--sections=sized``)
+101 0.9022 -> 0.9018, 106 0.8744 -> 0.8741: an estimate converges to the truth from either side,
+so where it started tells nothing. Figures with the carry counted while
+driving as well: :mod:`behaviors.mop.validity` (stalls).
 """
 
 from __future__ import annotations
