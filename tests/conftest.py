@@ -36,18 +36,18 @@ def unprivileged() -> tuple[str, ...]:
             "--inh-caps", "-dac_override,-dac_read_search")
 
 
-# The longest test files: CPU seconds of the whole file (or a fifth of its wall time when that
-# is more: real-time waits), measured with `pytest -n 2 --dist worksteal` on a busy machine, so
-# relative weights only. A file missing here is simply not moved.
+# The longest test files: CPU seconds of the whole file (its tests' processes included),
+# measured with `pytest -n 2` on a busy machine, so relative weights only. A file missing here
+# is simply not moved.
 LONG_FILES = {
-    "tests/kiosk/test_soak.py": 35, "tests/mop/test_follower.py": 61,
-    "tests/mop/test_live.py": 26, "tests/tabletop/test_fuzz.py": 24,
-    "tests/mop/test_plugin.py": 17, "tests/tabletop/test_replay_exact.py": 15,
-    "tests/mop/test_quality.py": 12, "tests/puppet_master/test_pm_fidelity.py": 11,
-    "tests/calibration/test_calibrate_cli.py": 10, "tests/studio/test_studio_touch_pose.py": 10,
-    "tests/puppet_master/test_pm_behaviors.py": 9, "tests/mop/test_hmm.py": 9,
-    "tests/studio/test_studio_table.py": 9, "tests/puppet_master/test_library.py": 8,
-    "tests/tabletop/test_cli.py": 8, "tests/kiosk/test_supervisor.py": 7,
+    "tests/mop/test_quality.py": 17, "tests/kiosk/test_supervisor.py": 16,
+    "tests/tabletop/test_cli.py": 11, "tests/mop/test_refusal.py": 10,
+    "tests/puppet_master/test_pm_fidelity.py": 8, "tests/tabletop/test_replay_exact.py": 8,
+    "tests/mop/test_resume.py": 7.5, "tests/kiosk/test_soak.py": 7.5,
+    "tests/kiosk/test_bad_action_start.py": 7.3, "tests/mop/test_spotting.py": 7.2,
+    "tests/kiosk/test_live_config.py": 6.6, "tests/puppet_master/test_pm_character_reading.py": 5.9,
+    "tests/mop/test_live.py": 5.4, "tests/mop/test_follower.py": 5.4,
+    "tests/tabletop/test_view_reading.py": 5.4, "tests/mop/test_group.py": 5.2,
 }
 
 

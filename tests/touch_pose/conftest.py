@@ -7,17 +7,30 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from behaviors.kernel_cache import SHARED
 from behaviors.touch_pose.engine import TouchPose, learned_models
 
 
 def cache_folder(tmp_path_factory) -> Path:
     """The test session's cache folder (an ``XDG_CACHE_HOME``), not the user's; shared by the
-    pytest-xdist workers."""
+    pytest-xdist workers. Its compiled kernels are the ones every other test loads
+    (``kernel_cache.SHARED``, linked): else each ``tabletop`` process a worker started once
+    it had set this folder compiled the kernels again (10-30 CPU s each, until the run's own
+    copy was filled)."""
     root = tmp_path_factory.getbasetemp()
     if os.environ.get("PYTEST_XDIST_WORKER"):
         root = root.parent          # the run's folder, above each worker's own
     folder = root / "touch_pose_models"
-    folder.mkdir(exist_ok=True)
+    kernels = folder / "tabletop" / "kernels"
+    kernels.parent.mkdir(parents=True, exist_ok=True)
+    if not kernels.is_symlink():
+        try:
+            os.makedirs(SHARED, exist_ok=True)
+            kernels.symlink_to(SHARED, target_is_directory=True)
+        except FileExistsError:     # (another worker's, at the same moment)
+            pass
+        except OSError:             # (no user cache: the kernels' own fallbacks, as outside)
+            pass
     return folder
 
 
