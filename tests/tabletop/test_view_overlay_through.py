@@ -122,3 +122,30 @@ def test_a_panel_the_kernels_cannot_read_is_seen_through_alike():
     assert (pygame.surfarray.array_alpha(a) == pygame.surfarray.array_alpha(b)).all()
     assert (pygame.surfarray.array3d(a) == pygame.surfarray.array3d(b)).all()
     assert pygame.surfarray.array_alpha(a)[30, 15] < pygame.surfarray.array_alpha(img)[30, 15]
+
+
+
+def test_over_a_hole_on_the_dark_table_the_panels_text_keeps_its_light():
+    """Where the panel fades over a character's rectangle (a bounding box: its glow, empty
+    table at its corners), its ground goes nearly clear but its text stays as bright as
+    beside it: faded with the ground, the figures read half as bright as their neighbours
+    across the rectangle's edge (measured: 0.46 of their light on the table's colour)."""
+    def on_table(holes):
+        s = pygame.Surface(SMALL)
+        s.fill(screens.TABLE)
+        place = Renderer(TABLE, SMALL).draw_overlay(s, LINES, holes, [])
+        return rgb(s).astype(int), place
+    alone, place = on_table([])
+    holes = everywhere(40, 30, 120, 80)
+    holed, at = on_table(holes)
+    assert at == place
+    inside = np.zeros(alone.shape[:2], bool)
+    for r in holes:
+        r = r.clip(place)
+        inside[r.top:r.bottom, r.left:r.right] = True
+    letters = text(alone) & inside
+    assert letters.sum() > 200
+    kept = holed[letters].sum() / alone[letters].sum()
+    assert kept > 0.95, kept
+    ground = (alone.max(axis=2) < 40) & inside              # the ground: still nearly clear
+    assert (holed[ground].sum(axis=1) - alone[ground].sum(axis=1)).mean() > 10
