@@ -158,7 +158,11 @@ class GenerationStep(StepDetail):
                     # main-relative step across 16 / 15-17. Main-frame places in a charge held in
                     # the world 24-30 (contact lost), on the live bearing 24-27 or with their
                     # relative step turned too 27-32 (orbit 18-34), the live main's step across
-                    # not carried there 19-25. None kept.
+                    # not carried there 19-25. There (seeds 41, 135, 306) the drift correction
+                    # runs round the main at 1.25-2.19 rad/s, the relative step against it at
+                    # 0.09-0.98; the correction's across part dropped in a charge 30-36 engine's
+                    # (orbit 29-32 misses), the relative step's too 12-18 (orbit 13-18, the fast
+                    # and loops paths over). None kept.
                     along = (mx - mxp) * ex + (my - myp) * ey
                     sx -= k * ((mx - mxp) - along * ex)
                     sy -= k * ((my - myp) - along * ey)
