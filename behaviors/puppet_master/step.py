@@ -142,6 +142,27 @@ class GenerationStep(StepDetail):
                     # against 0.28). bench/fidelity.py --seeds 0,1,2,3,4,5: 627 -> 632, seed
                     # 7: 108 -> 108; bully orbit met on 17 of 18 paths, contact 15 (was 16 /
                     # 16). Only after the touch: 631 / 107
+                    # Its slow-path orbit is still high (0.38-0.43 against 0.275 on 5 of 7
+                    # misses, seeds 0-5, 40-51, 128-139, 300-311): traced (Python step, seeds 41,
+                    # 134, 135, 302, 306 slow) within 0.1 m it orbits 0.74-0.93 rad/s, its
+                    # designer 0.20-0.35, the matched moments 0.22-0.33; in charges 0.51-0.75
+                    # (0.21-0.36). There the raw step (1 s) goes 1.26-1.45 rad/s at main-frame
+                    # places (moments 0.34-0.51), 0.29-0.62 at world places (0.18-0.23). Bully
+                    # misses, engine's in brackets, per set as above, three runs (relative_motion
+                    # x 1, 1 +- 0.001): as here 0 (0) / 6 (5) / 5 (4) / 9 (6), 1 (1) / 4 (4) / 5
+                    # (3) / 9 (7), 2 (2) / 5 (4) / 8 (6) / 10 (6), orbit 9 / 8 / 11. u_tan 0 in a
+                    # charge: orbit 5 / 2 / 5, misses 4 (4) / 5 (4) / 7 (3) / 8 (5) (contact on
+                    # fast paths); x 0.5: orbit 4 / 5 / 5, 2 (0) / 5 (3) / 7 (3) / 9 (7), then 6
+                    # (3) / 6 (3) / 4 (1) / 4 (4), 2 (0) / 2 (1) / 4 (2) / 7 (4); 0 only after /
+                    # before the touch 17 / 14 engine's (against 15); the demonstrated world or
+                    # main-relative step across 16 / 15-17. Main-frame places in a charge held in
+                    # the world 24-30 (contact lost), on the live bearing 24-27 or with their
+                    # relative step turned too 27-32 (orbit 18-34), the live main's step across
+                    # not carried there 19-25. There (seeds 41, 135, 306) the drift correction
+                    # runs round the main at 1.25-2.19 rad/s, the relative step against it at
+                    # 0.09-0.98; the correction's across part dropped in a charge 30-36 engine's
+                    # (orbit 29-32 misses), the relative step's too 12-18 (orbit 13-18, the fast
+                    # and loops paths over). None kept.
                     along = (mx - mxp) * ex + (my - myp) * ey
                     sx -= k * ((mx - mxp) - along * ex)
                     sy -= k * ((my - myp) - along * ey)
