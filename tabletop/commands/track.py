@@ -263,7 +263,17 @@ def main(args: argparse.Namespace) -> int:
     if args.calibration:
         from calibration.files import load_calibration
         calibration = load_calibration(args.calibration)
-    out = output_file(args.out, "--out", TrackInputError, inputs=(args.input,))
+    # the images of a folder INPUT are inputs too: "--out frames/f000.png" overwrote the first
+    # with the poses (and the next run called it "not an image OpenCV can read")
+    folder = Path(args.input)
+    images = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) \
+        if folder.is_dir() else []
+    out = output_file(args.out, "--out", TrackInputError,
+                      inputs=(args.input, args.calibration, args.config, *images))
+    if folder.is_dir() and out.suffix.lower() in IMAGE_SUFFIXES \
+            and out.absolute().parent.resolve() == folder.resolve():
+        raise TrackInputError(f"--out {out}: is an image name in the INPUT folder, whose next "
+                              "run would read the poses as a frame; give a .jsonl file name")
     reader = FrameReader(args.input)
     fps = fps_arg or reader.fps or 30.0
     detector = plugin.build_detector(options)
