@@ -459,3 +459,32 @@ def test_where_a_live_step_cannot_write_is_said_before_the_views(tmp_path, capsy
     assert r.returncode == 2 and r.stderr.strip().splitlines() == [
         f"tabletop calibrate camera: error: --out {shut / 'c.yaml'}: nothing can be written "
         "there: Permission denied"], r.stderr
+
+
+def test_four_markers_swapped_or_mirrored_are_refused(tmp_path, capsys, rig):
+    """Four markers fit any four positions exactly: two ids' positions swapped, or the table
+    measured from its other end (mirrored), were saved with "residual 0.00 mm". A fold is
+    refused; a mirrored table (every angle reversed) unless --force."""
+    cam = rig.camera
+    rig.pucks = marker_layout(cam.s.table)
+    rig.show(None)
+    img = tmp_path / "m.png"
+    cv2.imwrite(str(img), rig.grab())
+    out = tmp_path / "cal.yaml"
+    w, h = cam.s.table
+    corners = [min(rig.pucks, key=lambda p: (p[1] - cx) ** 2 + (p[2] - cy) ** 2)
+               for cx, cy in ((0, 0), (w, 0), (w, h), (0, h))]
+    at = {i: (x, y) for i, x, y, _ in corners}
+    ids = list(at)
+
+    def markers(pos):
+        return [a for i in ids for a in ("--marker", f"{i}={pos[i][0]},{pos[i][1]}")]
+    swapped = {**at, ids[2]: at[ids[3]], ids[3]: at[ids[2]]}
+    refused(capsys, "table", "--image", img, "--out", out, "--force", *markers(swapped),
+            words="fold the table over itself (two markers' positions swapped?)")
+    mirrored = {i: (w - x, y) for i, (x, y) in at.items()}
+    refused(capsys, "table", "--image", img, "--out", out, *markers(mirrored),
+            words="positions are mirrored")
+    assert not out.exists()
+    code, stdout, _ = run(capsys, "table", "--image", img, "--out", out, *markers(at))
+    assert code == 0 and out.exists(), stdout
