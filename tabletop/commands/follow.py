@@ -144,6 +144,9 @@ def warn_alike(templates: dict, paths: dict, follower) -> None:
               "the follower can hardly tell them apart", file=sys.stderr)
 
 
+MAX_RESAMPLED = 1_000_000   # samples a template may be resampled to
+
+
 def at_rate(templates: dict, times: dict, paths: dict, rate_hz: float) -> None:
     """Resample in place each template whose column 't' is not on the performance's rate
     (``rate_hz``, from its median step), as the installation resamples every template to its
@@ -166,6 +169,11 @@ def at_rate(templates: dict, times: dict, paths: dict, rate_hz: float) -> None:
         if t[-1] - t[0] > MAX_TEMPLATE_S:
             raise TemplateError(f"{paths[name]}: template {name!r} spans {t[-1] - t[0]:g} s "
                                 f"(column 't'); at most {MAX_TEMPLATE_S:g} s can be followed")
+        if (t[-1] - t[0]) * rate_hz > MAX_RESAMPLED:   # (a performance's t in hours: GBs)
+            raise TemplateError(f"{paths[name]}: template {name!r} would be "
+                                f"{(t[-1] - t[0]) * rate_hz:.3g} samples at the performance's "
+                                f"{rate_hz:.3g} Hz (at most {MAX_RESAMPLED:,}); are both "
+                                "columns 't' in seconds?")
         own = 1.0 / float(np.median(steps))
         regular = np.all(np.abs(steps - 1.0 / own) <= 0.01 / own)
         said.append(f"{name!r} ({paths[name]}, " + (f"{own:.3g} Hz)" if regular else

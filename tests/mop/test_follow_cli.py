@@ -298,3 +298,7 @@ def test_a_template_at_another_rate_is_resampled_to_the_performance_s(tmp_path, 
     far = _write(tmp_path / "far.csv", ["t", "dx", "dy"], [[0, 0, 0], [5000, 1, 1]])
     _fails(["follow", "--template", f"far={far}", "--input", str(perf), "--out",
             str(tmp_path / "out.csv")], capsys, "far.csv: template 'far' spans 5000 s")
+    fast = _write(tmp_path / "fast.csv", ["t", "dx", "dy"], [[0, 0, 0], [1e-6, 1, 1]])
+    _fails(["follow", "--template", f"circle={tpl}", "--input", str(fast), "--out",
+            str(tmp_path / "out.csv")], capsys, "template 'circle' would be 1.99e+06 samples at "
+           "the performance's 1e+06 Hz (at most 1,000,000)")
