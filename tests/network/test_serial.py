@@ -465,3 +465,24 @@ def test_a_relative_port_is_relative_to_the_config_file(tmp_path, monkeypatch):
         src.close()
         os.close(master)
         os.close(slave)
+
+
+def test_lines_ending_in_a_bare_cr_are_said_as_such(caplog):
+    """Firmware ending its lines with ``\\r`` alone ran every line into the next: the only word
+    was "line over 1024 bytes". The line now asks about the ending; an overlong line of
+    ``\\n``-ended input does not."""
+    caplog.set_level("WARNING", logger="tabletop")
+    for ending, asked in ((b"\r", True), (b"\n", False)):
+        src = SerialInput(f"cr{asked}", "loop://")
+        src.open()
+        try:
+            assert wait_for(lambda: src.port_object is not None, 5.0)
+            data = b"".join(b"puck 1 0.5 0.4 %d" % i + ending for i in range(100))
+            src.port_object.write(data if asked else b"x" * (MAX_LINE + 10) + b"\n" + data)
+            assert wait_for(lambda: src.bad.counts().get("overlong", 0) >= 1, 5.0)
+            assert wait_for(lambda: src.lines == (0 if asked else 100), 5.0)
+        finally:
+            src.close()
+        said = [r.getMessage() for r in caplog.records if f"cr{asked}:" in r.getMessage()]
+        assert len(said) == 1 and ("lines ending in \\r alone? end them with \\n or \\r\\n"
+                                   in said[0]) == asked, said
