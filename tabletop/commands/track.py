@@ -250,6 +250,17 @@ def _puck_json(p, smooth: bool) -> dict[str, Any]:
             "angle": round(float(a), 6), "state": p.state}
 
 
+def check_size(calibration: Any, grey: np.ndarray, args: argparse.Namespace) -> None:
+    """Refuse frames of another size than the calibration's ``image_size``: their table
+    positions were written without a word, all wrong (the live camera source warns of it)."""
+    size = None if calibration is None else calibration.image_size
+    h, w = grey.shape[:2]
+    if size is not None and tuple(size) != (w, h):
+        raise TrackInputError(f"{args.input}: frames are {w}x{h} pixels, but {args.calibration} "
+                              f"is for {size[0]}x{size[1]}; their table positions would be "
+                              "wrong (use frames at that size, or this camera's calibration)")
+
+
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -288,6 +299,8 @@ def main(args: argparse.Namespace) -> int:
         with atomic_writer(out) as f:
             try:
                 for i, grey in enumerate(reader.frames()):
+                    if i == 0:
+                        check_size(calibration, grey, args)
                     t = i / fps
                     preds = None
                     if tracker is not None:
