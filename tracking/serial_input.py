@@ -342,7 +342,7 @@ class SerialInput(BackgroundSource):
             if splitter.overlong > overlong:   # (firmware ending lines with \r alone:
                 # every line ran into the next, and "line over 1024 bytes" was all it said)
                 alone = " (lines ending in \\r alone? end them with \\n or \\r\\n)" \
-                    if BARE_CR.search(data) else ""
+                    if data.isascii() and BARE_CR.search(data) else ""   # (not noise)
                 self.bad.count("overlong", f"line over {MAX_LINE} bytes{alone}",
                                splitter.overlong - overlong)
             if lines:
