@@ -192,7 +192,8 @@ class OscInput(BackgroundSource):
             elif addr.startswith("/mocap/"):
                 mocap.append((addr[7:], args))
             else:
-                self.bad.count("unknown_address", f"{addr[:80]!r} from {address[0]}")
+                self.bad.count("unknown_address", f"{addr[:80]!r} from {address[0]}"
+                               f"{unknown_hint(addr)}")
         with self._lock:
             before = {k: {e.class_id for e in s.profiles["2Dobj"].committed.values()}
                       for k, s in self.client.senders.items() if "2Dobj" in s.profiles}
@@ -283,6 +284,16 @@ class OscInput(BackgroundSource):
                 server.server_close()
         with self._lock:
             self._message = "closed"
+
+
+def unknown_hint(addr: str) -> str:
+    """What an address this source does not read is likely to be, for its log line: a
+    TUIO 2.0 tracker or another TUIO 1.1 profile was said only as an unknown address."""
+    if addr.startswith("/tuio2/"):
+        return ": TUIO 2.0, which is not read; set the sender to TUIO 1.1"
+    if addr.startswith("/tuio/"):
+        return ": a TUIO 1.1 profile not read (only /tuio/2Dobj, /tuio/2Dcur, /tuio/2Dblb)"
+    return ""
 
 
 def plain_address(address: str) -> str:

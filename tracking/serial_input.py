@@ -54,6 +54,7 @@ MAX_ITEMS = 256            # pucks, touches (each)
 MAX_STREAMS = 64
 MAX_STREAM_VALUES = 256
 NAME = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
+BARE_CR = re.compile(rb"\r[^\n\0]")   # a \r that ends no line (NUL padding may follow one)
 
 
 class LineError(InputError):
@@ -338,8 +339,11 @@ class SerialInput(BackgroundSource):
             got = True
             overlong = splitter.overlong
             lines = splitter.feed(data)
-            if splitter.overlong > overlong:
-                self.bad.count("overlong", f"line over {MAX_LINE} bytes",
+            if splitter.overlong > overlong:   # (firmware ending lines with \r alone:
+                # every line ran into the next, and "line over 1024 bytes" was all it said)
+                alone = " (lines ending in \\r alone? end them with \\n or \\r\\n)" \
+                    if data.isascii() and BARE_CR.search(data) else ""   # (not noise)
+                self.bad.count("overlong", f"line over {MAX_LINE} bytes{alone}",
                                splitter.overlong - overlong)
             if lines:
                 self._apply(lines, self.clock())

@@ -300,7 +300,7 @@ def camera_main(args: argparse.Namespace) -> int:
 
 
 def table_main(args: argparse.Namespace) -> int:
-    from calibration.fits import MAX_TABLE_MM, diagonal_centres, fit_table
+    from calibration.fits import MAX_TABLE_MM, diagonal_centres, fit_handedness, fit_table
     from calibration.transforms import FitError, undistort_pixels
     from tracking.markers import DetectorSettings, detect_markers, make_detector, refine_corners
     wanted = [parse_marker(m) for m in args.marker]
@@ -349,10 +349,16 @@ def table_main(args: argparse.Namespace) -> int:
         raise CalibrateError(f"--marker: {exc}") from None
     for (mid, x, y), r in zip(wanted, fit.residual_mm):
         print(f"  marker {mid} at {x:.3f}, {y:.3f} m: {r:.2f} mm")
+    folded, mirrored = fit_handedness(fit.H, undistort_pixels(quads.reshape(-1, 2), K, dist))
+    if folded:
+        raise CalibrateError("--marker: these positions fold the table over itself (two markers' "
+                             "positions swapped?); check each id against where it lies")
     print(f"table fit: residual {fit.rms_mm:.2f} mm RMS, {fit.worst_mm:.2f} mm worst, "
           f"{len(wanted)} markers")
     refuse_or_force(fit.rms_mm > MAX_TABLE_MM, f"table residual {fit.rms_mm:.2f} mm RMS is "
                     f"over {MAX_TABLE_MM} mm (a marker at a wrong position?)", args.force)
+    refuse_or_force(mirrored, "--marker: these positions are mirrored (the table is x right, "
+                    "y up seen from above; every angle would be reversed)", args.force)
     entries: dict[str, Any] = dict(camera_to_table=fit.H, errors={
         "camera_to_table_m": fit.rms_mm / 1e3})
     if K is not None:

@@ -1,8 +1,9 @@
 """``tabletop follow``: follow a recorded performance along action templates, row by row.
 
 Each template CSV and the performance CSV share their feature columns (an optional ``t`` column is
-not a feature); samples are regularly spaced. One output row per performance row, computed
-causally as it would be live: ``t,best,progress,variance``, then ``p_NAME`` and
+not a feature); samples are regularly spaced, and a template whose ``t`` is at another rate
+than the performance's is resampled to it (:func:`at_rate`). One output row per performance
+row, computed causally as it would be live: ``t,best,progress,variance``, then ``p_NAME`` and
 ``progress_NAME`` per template, then ``valid`` and ``loglik``. Gestures are spotted in the stream
 (one after another, without a rest between them); ``--invariance scale`` follows them at any
 size and wherever they begin.
@@ -143,6 +144,47 @@ def warn_alike(templates: dict, paths: dict, follower) -> None:
               "the follower can hardly tell them apart", file=sys.stderr)
 
 
+MAX_RESAMPLED = 1_000_000   # samples a template may be resampled to
+
+
+def at_rate(templates: dict, times: dict, paths: dict, rate_hz: float) -> None:
+    """Resample in place each template whose column 't' is not on the performance's rate
+    (``rate_hz``, from its median step), as the installation resamples every template to its
+    ``rate_hz``: the follower takes one template sample per performance row, so a template
+    recorded at 120 Hz followed a 30 Hz performance of the same gesture as a fourfold slow one
+    (8 of 60 rows valid, progress 0.006 at the end; resampled: as at 30 Hz, 54 of 60). The
+    templates resampled are said in one stderr line."""
+    import sys
+
+    import numpy as np
+
+    from behaviors.mop.follower import TemplateError
+    from tabletop.plugins.mop_files import MAX_TEMPLATE_S, resample
+    step = 1.0 / rate_hz
+    said = []
+    for name, t in times.items():
+        steps = np.diff(t)
+        if np.all(np.abs(steps - step) <= 0.01 * step):
+            continue
+        if t[-1] - t[0] > MAX_TEMPLATE_S:
+            raise TemplateError(f"{paths[name]}: template {name!r} spans {t[-1] - t[0]:g} s "
+                                f"(column 't'); at most {MAX_TEMPLATE_S:g} s can be followed")
+        if (t[-1] - t[0]) * rate_hz > MAX_RESAMPLED:   # (a performance's t in hours: GBs)
+            raise TemplateError(f"{paths[name]}: template {name!r} would be "
+                                f"{(t[-1] - t[0]) * rate_hz:.3g} samples at the performance's "
+                                f"{rate_hz:.3g} Hz (at most {MAX_RESAMPLED:,}); are both "
+                                "columns 't' in seconds?")
+        own = 1.0 / float(np.median(steps))
+        regular = np.all(np.abs(steps - 1.0 / own) <= 0.01 / own)
+        said.append(f"{name!r} ({paths[name]}, " + (f"{own:.3g} Hz)" if regular else
+                    f"irregular: {steps.min():.3g} to {steps.max():.3g} s apart)"))
+        templates[name] = resample(t, templates[name], rate_hz)
+    if said:
+        print(f"tabletop follow: note: template{'s' * (len(said) > 1)} {', '.join(said)} "
+              f"resampled to the performance's {rate_hz:.3g} Hz, as the installation resamples "
+              "its templates to its rate_hz", file=sys.stderr)
+
+
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -157,6 +199,7 @@ def main(args: argparse.Namespace) -> int:
     output_file(args.out, "--out", FollowArgumentError,
                 inputs=[args.input] + [path for _, path in pairs], example="progress.csv")
     templates: dict[str, np.ndarray] = {}
+    times: dict[str, np.ndarray] = {}       # a template's column 't', where it has one
     columns: list[str] | None = None
     first: Path | None = None
     for name, path in pairs:
@@ -177,6 +220,8 @@ def main(args: argparse.Namespace) -> int:
                 f"{','.join(columns)}; every template needs the same feature columns")
         order = [names.index(c) for c in columns]
         templates[name] = feats[:, order]
+        if "t" in header:
+            times[name] = data[:, header.index("t")]
     assert columns is not None
     header, data, lines = read_csv_lines(args.input, what="performance CSV file", min_rows=1)
     names, feats = _features(args.input, header, data, "performance", lines)
@@ -192,6 +237,8 @@ def main(args: argparse.Namespace) -> int:
     if "t" in header:
         t = data[:, header.index("t")]
         check_increasing(t, args.input, lines=lines)
+        if len(t) >= 2:
+            at_rate(templates, times, dict(pairs), 1.0 / float(np.median(np.diff(t))))
     else:
         t = np.arange(perf.shape[0], dtype=float)
 

@@ -112,6 +112,29 @@ def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]
     return frames
 
 
+def warn_units(frames: list[tuple[float, dict[int, tuple[float, float]]]],
+               table: tuple[float, float], path: str) -> None:
+    """One stderr line when the touches lie off the table (millimetres or pixels given for
+    metres: no finger lands on the character, which only stands, without a word) and one when
+    the input frames are over a second apart (median: milliseconds given for seconds, which
+    made a 20 s recording 600,000 steps of physics)."""
+    import sys
+    w, h = table
+    points = [p for _t, fingers in frames for p in fingers.values()]
+    off = [p for p in points if not (0.0 <= p[0] <= w and 0.0 <= p[1] <= h)]
+    said = "tabletop pose: warning:"
+    if off:
+        x, y = off[0]
+        print(f"{said} {path}: {len(off)} of {len(points)} touches lie off the {w:g} x {h:g} m "
+              f"table (the first at {x:g}, {y:g}); x, y are table metres (millimetres or pixels "
+              "given?)", file=sys.stderr)
+    if len(frames) > 1:
+        apart = float(np.median(np.diff([t for t, _f in frames])))
+        if apart > 1.0:
+            print(f"{said} {path}: the input frames are {apart:g} s apart (median); times are "
+                  "seconds (milliseconds given?)", file=sys.stderr)
+
+
 def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine: TouchPose,
         rate: float) -> list[dict]:
     """Output records at ``rate`` from the first input time to the last + 2 s (causal)."""
@@ -148,6 +171,7 @@ def main(args: argparse.Namespace) -> int:
                     example="describe.json" if args.describe else "poses.jsonl")
     frames = None if args.describe else read_touches(args.input)
     if frames is not None:
+        warn_units(frames, (w, h), args.input)
         span = frames[-1][0] - frames[0][0] + RUN_ON_S
         if span * rate > MAX_STEPS:
             raise PoseArgumentError(f"{args.input}: the touches span {span - RUN_ON_S:g} s, "

@@ -250,6 +250,17 @@ def _puck_json(p, smooth: bool) -> dict[str, Any]:
             "angle": round(float(a), 6), "state": p.state}
 
 
+def check_size(calibration: Any, grey: np.ndarray, args: argparse.Namespace) -> None:
+    """Refuse frames of another size than the calibration's ``image_size``: their table
+    positions were written without a word, all wrong (the live camera source warns of it)."""
+    size = None if calibration is None else calibration.image_size
+    h, w = grey.shape[:2]
+    if size is not None and tuple(size) != (w, h):
+        raise TrackInputError(f"{args.input}: frames are {w}x{h} pixels, but {args.calibration} "
+                              f"is for {size[0]}x{size[1]}; their table positions would be "
+                              "wrong (use frames at that size, or this camera's calibration)")
+
+
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -263,7 +274,17 @@ def main(args: argparse.Namespace) -> int:
     if args.calibration:
         from calibration.files import load_calibration
         calibration = load_calibration(args.calibration)
-    out = output_file(args.out, "--out", TrackInputError, inputs=(args.input,))
+    # the images of a folder INPUT are inputs too: "--out frames/f000.png" overwrote the first
+    # with the poses (and the next run called it "not an image OpenCV can read")
+    folder = Path(args.input)
+    images = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) \
+        if folder.is_dir() else []
+    out = output_file(args.out, "--out", TrackInputError,
+                      inputs=(args.input, args.calibration, args.config, *images))
+    if folder.is_dir() and out.suffix.lower() in IMAGE_SUFFIXES \
+            and out.absolute().parent.resolve() == folder.resolve():
+        raise TrackInputError(f"--out {out}: is an image name in the INPUT folder, whose next "
+                              "run would read the poses as a frame; give a .jsonl file name")
     reader = FrameReader(args.input)
     fps = fps_arg or reader.fps or 30.0
     detector = plugin.build_detector(options)
@@ -278,6 +299,8 @@ def main(args: argparse.Namespace) -> int:
         with atomic_writer(out) as f:
             try:
                 for i, grey in enumerate(reader.frames()):
+                    if i == 0:
+                        check_size(calibration, grey, args)
                     t = i / fps
                     preds = None
                     if tracker is not None:

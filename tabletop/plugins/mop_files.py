@@ -105,10 +105,17 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
         if t[-1] - t[0] > MAX_TEMPLATE_S:
             raise FileFormatError(f"{path}: the template spans {t[-1] - t[0]:g} s (column 't'); "
                                   f"at most {MAX_TEMPLATE_S:g} s can be followed")
-        n = max(2, int(round((t[-1] - t[0]) * rate_hz)) + 1)
-        tt = t[0] + np.arange(n) / rate_hz
-        x = np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)
+        x = resample(t, x, rate_hz)
     return x
+
+
+def resample(t: np.ndarray, x: np.ndarray, rate_hz: float) -> np.ndarray:
+    """Samples ``x`` (n x d) taken at increasing times ``t`` (s), linearly interpolated at
+    ``rate_hz`` from ``t[0]`` to about ``t[-1]`` (at least 2 samples); the caller bounds the
+    span (:data:`MAX_TEMPLATE_S`)."""
+    n = max(2, int(round((t[-1] - t[0]) * rate_hz)) + 1)
+    tt = t[0] + np.arange(n) / rate_hz
+    return np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)
 
 
 def action_files(character: dict[str, Any], action: dict[str, Any], base: Path

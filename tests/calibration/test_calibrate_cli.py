@@ -158,13 +158,17 @@ def test_table_pattern_projector_chain_keeps_entries_and_backups(tmp_path, capsy
     assert out.read_bytes() == before
 
 
-def test_table_refusals(tmp_path, capsys, rig):
-    cam = rig.camera
-    rig.pucks = marker_layout(cam.s.table)
+def _marker_image(tmp_path, rig):
+    """The rig's camera image of the marker layout (a PNG) and an output path beside it."""
+    rig.pucks = marker_layout(rig.camera.s.table)
     rig.show(None)
     img = tmp_path / "m.png"
     cv2.imwrite(str(img), rig.grab())
-    out = tmp_path / "cal.yaml"
+    return img, tmp_path / "cal.yaml"
+
+
+def test_table_refusals(tmp_path, capsys, rig):
+    img, out = _marker_image(tmp_path, rig)
     row = [a for i, x, y, _ in rig.pucks[:4] for a in ("--marker", f"{i}={x},{y}")]
     refused(capsys, "table", "--image", img, "--out", out, "--force", *row,
             words="lie on one line")  # ids 0-3 lie along the near edge
@@ -459,3 +463,27 @@ def test_where_a_live_step_cannot_write_is_said_before_the_views(tmp_path, capsy
     assert r.returncode == 2 and r.stderr.strip().splitlines() == [
         f"tabletop calibrate camera: error: --out {shut / 'c.yaml'}: nothing can be written "
         "there: Permission denied"], r.stderr
+
+
+def test_four_markers_swapped_or_mirrored_are_refused(tmp_path, capsys, rig):
+    """Four markers fit any four positions exactly: two ids' positions swapped, or the table
+    measured from its other end (mirrored), were saved with "residual 0.00 mm". A fold is
+    refused; a mirrored table (every angle reversed) unless --force."""
+    img, out = _marker_image(tmp_path, rig)
+    w, h = rig.camera.s.table
+    corners = [min(rig.pucks, key=lambda p: (p[1] - cx) ** 2 + (p[2] - cy) ** 2)
+               for cx, cy in ((0, 0), (w, 0), (w, h), (0, h))]
+    at = {i: (x, y) for i, x, y, _ in corners}
+    ids = list(at)
+
+    def markers(pos):
+        return [a for i in ids for a in ("--marker", f"{i}={pos[i][0]},{pos[i][1]}")]
+    swapped = {**at, ids[2]: at[ids[3]], ids[3]: at[ids[2]]}
+    refused(capsys, "table", "--image", img, "--out", out, "--force", *markers(swapped),
+            words="fold the table over itself (two markers' positions swapped?)")
+    mirrored = {i: (w - x, y) for i, (x, y) in at.items()}
+    refused(capsys, "table", "--image", img, "--out", out, *markers(mirrored),
+            words="positions are mirrored")
+    assert not out.exists()
+    code, stdout, _ = run(capsys, "table", "--image", img, "--out", out, *markers(at))
+    assert code == 0 and out.exists(), stdout

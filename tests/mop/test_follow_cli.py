@@ -233,10 +233,12 @@ def test_a_template_twice_under_two_names_or_too_short_is_said(files, capsys):
 
 
 def _resampled(rows: np.ndarray, tempo: float, noise_m: float, seed: int) -> np.ndarray:
-    """``rows`` (t, features...) redrawn at ``tempo`` times as many samples, with noise."""
+    """``rows`` (t, features...) redrawn at ``tempo`` times as many samples at the same rate
+    (performed 1 / ``tempo`` times as fast), with noise."""
     n = len(rows)
     at = np.linspace(0, n - 1, int(n * tempo))
     out = np.column_stack([np.interp(at, np.arange(n), rows[:, j]) for j in range(3)])
+    out[:, 0] = rows[0, 0] + np.arange(len(out)) * (rows[1, 0] - rows[0, 0])
     out[:, 1:] += np.random.default_rng(seed).normal(0.0, noise_m, (len(out), 2))
     return out
 
@@ -270,3 +272,33 @@ def test_a_gesture_recorded_twice_is_said_alike(tmp_path, capsys):
         assert cli([*base, "--template", f"back={tmp_path / 'back.csv'}",
                     "--invariance", invariance]) == 0
         assert capsys.readouterr().err == ""
+
+
+def test_a_template_at_another_rate_is_resampled_to_the_performance_s(tmp_path, capsys):
+    """A 2 s circle recorded at 120 Hz follows a 30 Hz performance of it as the 30 Hz recording
+    does (the installation resamples templates to its rate_hz); it was followed as a fourfold
+    slow gesture (8 of 60 rows valid, progress 0.006 at the end)."""
+    def circle(rate: float, path: Path) -> Path:
+        t = np.arange(int(2 * rate)) / rate
+        return _write(path, ["t", "dx", "dy"], np.column_stack(
+            [t, np.cos(math.pi * t), np.sin(math.pi * t)]))
+    perf = circle(30.0, tmp_path / "perf.csv")
+    valid = {}
+    for rate in (30.0, 120.0):
+        tpl = circle(rate, tmp_path / f"c{rate:.0f}.csv")
+        assert cli(["follow", "--template", f"circle={tpl}", "--input", str(perf),
+                    "--out", str(tmp_path / "out.csv")]) == 0
+        _, rows = _read(tmp_path / "out.csv")
+        valid[rate] = sum(int(r["valid"]) for r in rows)
+        assert float(rows[-1]["progress"]) > 0.95, rate
+    assert valid[120.0] >= valid[30.0] - 3 and valid[30.0] >= 50, valid
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "note: template 'circle' (" in err[0] and "c120.csv, 120 Hz) " \
+        "resampled to the performance's 30 Hz" in err[0], err
+    far = _write(tmp_path / "far.csv", ["t", "dx", "dy"], [[0, 0, 0], [5000, 1, 1]])
+    _fails(["follow", "--template", f"far={far}", "--input", str(perf), "--out",
+            str(tmp_path / "out.csv")], capsys, "far.csv: template 'far' spans 5000 s")
+    fast = _write(tmp_path / "fast.csv", ["t", "dx", "dy"], [[0, 0, 0], [1e-6, 1, 1]])
+    _fails(["follow", "--template", f"circle={tpl}", "--input", str(fast), "--out",
+            str(tmp_path / "out.csv")], capsys, "template 'circle' would be 1.99e+06 samples at "
+           "the performance's 1e+06 Hz (at most 1,000,000)")

@@ -465,3 +465,28 @@ def test_a_relative_port_is_relative_to_the_config_file(tmp_path, monkeypatch):
         src.close()
         os.close(master)
         os.close(slave)
+
+
+def test_lines_ending_in_a_bare_cr_are_said_as_such(caplog):
+    """Firmware ending its lines with ``\\r`` alone ran every line into the next: the only word
+    was "line over 1024 bytes". The line now asks about the ending; an overlong line of
+    ``\\n``-ended input does not."""
+    caplog.set_level("WARNING", logger="tabletop")
+    noise = bytes(b for b in range(256) if b != 10) * 5   # line noise with a \r: not asked
+    for ending, asked in ((b"\r", True), (b"\n", False), (noise, False)):
+        src = SerialInput(f"cr{asked}{len(ending)}", "loop://")
+        src.open()
+        try:
+            assert wait_for(lambda: src.port_object is not None, 5.0)
+            data = b"".join(b"puck 1 0.5 0.4 %d" % i + ending for i in range(100))
+            if ending == noise:
+                data = noise + b"\n"
+            src.port_object.write(data if asked else b"x" * (MAX_LINE + 10) + b"\n" + data)
+            assert wait_for(lambda: src.bad.counts().get("overlong", 0) >= 1, 5.0)
+            assert wait_for(lambda: src.lines == (100 if ending == b"\n" else 0), 5.0)
+        finally:
+            src.close()
+        said = [r.getMessage() for r in caplog.records
+                if f"cr{asked}{len(ending)}: ignored overlong" in r.getMessage()]
+        assert len(said) == 1 and ("lines ending in \\r alone? end them with \\n or \\r\\n"
+                                   in said[0]) == asked, said

@@ -311,3 +311,29 @@ def test_a_held_tuio_state_is_not_counted_as_capture_to_render_latency():
     finally:
         src.close()
 
+
+
+def test_a_tuio_2_tracker_or_another_profile_is_named_in_the_log(caplog):
+    """A TUIO 2.0 tracker (``/tuio2/...``) and a 1.1 profile not read (``/tuio/3Dobj``) were
+    logged only as "unknown address"; the line now says which, and what is read."""
+    caplog.set_level("WARNING", logger="tabletop")
+    said = {}
+    for name, m in (("two", message("/tuio2/tok", 1, 0, 3, 0.5, 0.5, 0.0)),
+                    ("three", message("/tuio/3Dobj", "alive", 1)),
+                    ("other", message("/unknown", 1))):
+        src = OscInput(name, port=0)
+        src.open()
+        try:
+            assert src.wait_listening()
+            with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+                s.sendto(m.dgram, ("127.0.0.1", src.bound_port))
+            assert wait_for(lambda: src.bad.counts() == {"unknown_address": 1}, 5.0)
+        finally:
+            src.close()
+        said[name], = [r.getMessage() for r in caplog.records if r.getMessage().startswith(
+            f"{name}: ignored")]
+    assert said["two"].endswith("'/tuio2/tok' from 127.0.0.1: TUIO 2.0, which is not read; "
+                                "set the sender to TUIO 1.1"), said
+    assert said["three"].endswith(": a TUIO 1.1 profile not read (only /tuio/2Dobj, "
+                                  "/tuio/2Dcur, /tuio/2Dblb)"), said
+    assert said["other"].endswith("'/unknown' from 127.0.0.1"), said

@@ -146,3 +146,19 @@ def test_the_output_lines_as_a_process_writes_them(tmp_path, models, models_cach
     centre = (parts.min(axis=0) + parts.max(axis=0)) / 2
     assert centre == pytest.approx((0.6, 0.4), abs=0.03)
     assert parts[:, 1].max() - parts[:, 1].min() == pytest.approx(0.3, rel=0.25)
+
+
+def test_touches_in_millimetres_or_milliseconds_are_warned_of(tmp_path, capsys):
+    """Millimetres given for metres put every finger off the table (the character only
+    stands) and milliseconds for seconds make a 20 s recording 600,000 steps: each said in one
+    warning line; the poses are still written. Table metres and seconds: no word."""
+    out = tmp_path / "o.jsonl"
+    mm = _write(tmp_path / "mm.csv", [(0, 1, 600, 400), (33, 1, 0.61, 0.4), (66, 1, 620, 400)])
+    assert main(["pose", "--input", str(mm), "--out", str(out), "--rate", "1"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "mm.csv: 2 of 3 touches lie off the 1.2 x 0.8 m table (the first " \
+        "at 600, 400)" in err[0] and "frames are 33 s apart (median)" in err[1], err
+    assert len(out.read_text().splitlines()) == 69
+    ok = _write(tmp_path / "ok.csv", [(0, 1, 0.6, 0.4), (0.1, 1, 0.62, 0.4), (0.2, 1, 1.2, 0.8)])
+    assert main(["pose", "--input", str(ok), "--out", str(out), "--rate", "1"]) == 0
+    assert capsys.readouterr().err == ""

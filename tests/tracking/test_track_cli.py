@@ -327,3 +327,52 @@ def test_a_video_declaring_a_few_frames_too_many_is_tracked_with_a_warning(tmp_p
             f"tabletop track: error: {damaged}: frame {wiped} cannot be read; the video "
             "declares 40 frames (damaged or cut short)"], r.stderr
         assert not out.exists()
+
+
+def test_an_out_on_an_input_s_image_or_config_is_refused_before_any_frame(scene, tmp_path,
+                                                                          capsys):
+    """``--out frames/f.png`` wrote the poses over the folder's first image (the next run:
+    "not an image OpenCV can read"); a new image name there poisoned the next run the same
+    way; ``--out`` on ``--config`` or ``--calibration`` overwrote it. Each is one line, and
+    every file stays as it was."""
+    import shutil
+    folder, _, _ = scene
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    for src in sorted(folder.iterdir())[:2]:
+        shutil.copy(src, frames / src.name)
+    first = sorted(frames.iterdir())[0]
+    before = first.read_bytes()
+    config = tmp_path / "c.yaml"
+    config.write_text(text := "sources:\n  - kind: scripted\n")
+    cases = [(first, [], f"is the input file {first}"),
+             (frames / ".." / frames.name / first.name, [], "is the input file"),
+             (frames / "new.PNG", [], "is an image name in the INPUT folder"),
+             (config, ["--config", str(config)], f"is the input file {config}")]
+    for out, extra, expect in cases:
+        assert cli.main(["track", str(frames), "--out", str(out), *extra]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and expect in err, err
+    assert first.read_bytes() == before and config.read_text() == text
+    assert sorted(p.name for p in frames.iterdir()) == sorted(p.name for p in
+                                                             sorted(folder.iterdir())[:2])
+    assert cli.main(["track", str(frames), "--out", str(frames / "poses.jsonl")]) == 0
+
+
+def test_frames_of_another_size_than_the_calibration_are_refused(scene, tmp_path, capsys):
+    """Frames at half the calibrated size were tracked without a word, every table position
+    wrong (a puck at 0.5, 0.3 m written at 0.31, 0.15); the live camera warns of it."""
+    from calibration.files import Calibration, save_calibration
+    folder, cam, _ = scene
+    small = tmp_path / "small"
+    small.mkdir()
+    first = sorted(folder.iterdir())[0]
+    cv2.imwrite(str(small / first.name), cv2.resize(cv2.imread(str(first)), (640, 360)))
+    calib = tmp_path / "calibration.yaml"
+    save_calibration(calib, Calibration(cam.image_to_table_homography(), image_size=(1280, 720)))
+    out = tmp_path / "o.jsonl"
+    assert cli.main(["track", str(small), "--out", str(out), "--calibration", str(calib)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and f"{small}: frames are 640x360 pixels, but {calib} is " \
+        "for 1280x720" in err, err
+    assert not out.exists()
