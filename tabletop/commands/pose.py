@@ -171,12 +171,12 @@ def main(args: argparse.Namespace) -> int:
                     example="describe.json" if args.describe else "poses.jsonl")
     frames = None if args.describe else read_touches(args.input)
     if frames is not None:
-        warn_units(frames, (w, h), args.input)
         span = frames[-1][0] - frames[0][0] + RUN_ON_S
         if span * rate > MAX_STEPS:
             raise PoseArgumentError(f"{args.input}: the touches span {span - RUN_ON_S:g} s, "
                                     f"{span * rate:.3g} steps at {rate:g} Hz; at most "
                                     f"{MAX_STEPS:,} steps are made")
+        warn_units(frames, (w, h), args.input)    # (after a refusal: its one line alone)
     from behaviors.touch_pose.engine import TouchPose
     from tabletop.files import atomic_write_text
     engine = TouchPose((w, h), height, az, el, physics=not args.describe)
