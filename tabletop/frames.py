@@ -22,6 +22,7 @@ PuckState = Literal["seen", "coasting"]
 
 MAX_POSITION_M = 1000.0   # m: no table position is further from the origin; a demonstration
 # row at 1e300 m (a damaged file) was trained with only numpy's overflow warning
+MAX_MARKER_ID = 1_000_000  # largest puck (marker) id read from the serial and TUIO inputs
 MAX_FEATURE = 1e100       # largest magnitude of a followed feature (a stream's values have no
 # known units): the action follower squares and sums differences over its window; one sample of
 # 1e160 made its probabilities NaN and then stopped 'tabletop follow' with an IndexError (1e150

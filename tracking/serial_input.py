@@ -40,15 +40,15 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.frames import (MAX_FEATURE, InputError, Observation, PuckMeasurement, SourceHealth,
-                             Touch, wrap_angle)
+from tabletop.frames import (MAX_FEATURE, MAX_MARKER_ID, InputError, Observation,
+                             PuckMeasurement, SourceHealth, Touch, wrap_angle)
 from tracking.badinput import BackgroundSource, BadInput, RetryLog
 
 log = logging.getLogger("tabletop.serial")
 
 MAX_LINE = 1024
 HOLD_S = 0.1           # an observation is stamped at most this old (the clock moves on)
-MAX_ID = 1_000_000
+MAX_ID = MAX_MARKER_ID
 MAX_COORD = 100.0          # metres; farther is refused
 MAX_ITEMS = 256            # pucks, touches (each)
 MAX_STREAMS = 64

@@ -30,7 +30,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Sequence
 
-from tabletop.frames import InputError, wrap_angle
+from tabletop.frames import MAX_MARKER_ID, InputError, wrap_angle
 from tracking.osc_codec import encode_bundle, encode_message
 
 MAX_SOURCE = 200   # characters of a sender's source name kept (a longer one is cut)
@@ -105,6 +105,9 @@ def parse_set(profile: str, args: Sequence[Any]) -> Entity:
     s = _int(args[0], "session id")
     if profile == "2Dobj":
         c = _int(args[1], "class id")
+        if not 0 <= c <= MAX_MARKER_ID:   # the class id is the marker id: a puck id
+            raise TuioError("out_of_range", f"/tuio/2Dobj class id {c} of session {s} is not a "
+                                            f"marker id 0..{MAX_MARKER_ID}")
         x, y, a, vx, vy, va, _m, _r = _floats(args[2:], "2Dobj set")
     elif profile == "2Dcur":
         c, a, va = -1, 0.0, 0.0

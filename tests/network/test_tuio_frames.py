@@ -248,3 +248,24 @@ def test_a_source_name_sent_alone_and_then_nothing_is_no_unfinished_frame(source
     assert [p.id for p in source.latest().pucks] == [5]
     assert source.bad.counts() == {}
     assert "TUIO from slow@here" in source.health().message
+
+
+def test_class_ids_that_are_no_marker_id_are_refused_and_the_bundle_still_read(source, caplog):
+    """The class id of ``/tuio/2Dobj`` is the marker id (a puck id): a negative one, or one
+    beyond the largest marker id, is refused (counted ``out_of_range``, one log line naming the
+    sender and the id while it repeats), and the other sets of its bundle still make pucks."""
+    import logging
+
+    from tabletop.frames import MAX_MARKER_ID
+
+    ref = RefSender(source.bound_port)
+    with caplog.at_level(logging.WARNING, logger="tabletop.input"):
+        for _ in range(3):
+            ref.objects([(9, -5, 0.5, 0.5, 0.0), (10, MAX_MARKER_ID + 1, 0.3, 0.5, 0.0),
+                         (11, 3, 0.7, 0.5, 0.0), (12, MAX_MARKER_ID, 0.2, 0.5, 0.0)])
+        assert sent(source, 3)
+    assert source.bad.counts() == {"out_of_range": 6}
+    lines = [r.getMessage() for r in caplog.records]
+    assert len(lines) == 1 and "from 127.0.0.1" in lines[0] and "class id -5" in lines[0], lines
+    frame = LiveInputs([source], Tracker()).next(0, 0.0)
+    assert sorted(p.id for p in frame.pucks) == [3, MAX_MARKER_ID]
