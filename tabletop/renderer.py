@@ -16,6 +16,7 @@ import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
+from tabletop.drawing import panel_room  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E402
@@ -101,6 +102,7 @@ class Renderer:
         self._overlay_w = (0, 0)     # the window size the panel was made for (px)
         self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
+        self._narrow = panel_room.NarrowPanel()   # the panel wrapped to end before a character
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
         self.panel: pygame.Rect | None = None   # where the panel was last drawn (px)
         self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
@@ -438,11 +440,18 @@ class Renderer:
         self.panel = place
         img = self._overlay_img
         holes = [c for c, weight in under(self._corner) if weight == 1]
+        if holes and reading.right == (1, 0):   # (its lines end on the right)
+            width = panel_room.narrow_width(place, avoid, W)
+            if width is not None:
+                narrow = self._narrow(lines, width, cap, self._overlay_px, sizes, keep)
+                at = panel_room.narrow_place(place, narrow.get_size(), (W, H), avoid, must)
+                if at is not None:
+                    img, place = narrow, at
+                    self.panel, holes = place, panel_room.clips(place, avoid)
         if holes:
             # the panel stays where it hides least (a corner that hides less than half as much
             # is needed to move it), so what is left under it shows through: the rectangles
             # are bounding boxes (a glow's, a trail's), so the panel fades over some empty
             # table too; over the studio's words it stays dark, its own text readable
-            img = self._see_through(img, holes, [c for c, weight in under(self._corner)
-                                                 if weight != 1], SEE_THROUGH)
+            img = self._see_through(img, holes, panel_room.clips(place, must), SEE_THROUGH)
         return target.blit(img, place)

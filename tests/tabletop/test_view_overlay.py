@@ -382,3 +382,25 @@ def test_in_a_small_window_the_panel_never_lies_over_the_try_words(lines_n):
     assert r.panel.topleft in ((8, 8), (size[0] - r.panel.w - 8, 8),
                                (8, size[1] - r.panel.h - 8),
                                (size[0] - r.panel.w - 8, size[1] - r.panel.h - 8)), r.panel
+
+
+def test_a_long_source_line_wraps_to_end_the_panel_before_a_character_under_its_end():
+    """At 1280x720 a source's line with its "(ignored: ...)" counts made the panel 600 px
+    wide; a character under its end showed through there and the line's last words read as
+    text past the panel's edge (15 text pixels over the character). Its lines wrap narrower:
+    every text pixel lies on the panel, none over the character."""
+    from tabletop.renderer import Renderer
+    r = Renderer((1.2, 0.8), (1280, 720), margin=24)
+    target = pygame.Surface((1280, 720))
+    lines = ["tick 814   running 13.6 s", "60.0 fps   skipped 11   errors 0",
+             *[f"  stage{i}\t{0.5:6.2f} ms median\t{13.5:6.2f} ms p99" for i in range(8)],
+             "source tuio: ok  listening on 127.0.0.1:39336; TUIO from touch@frame (ignored: "
+             "3 non finite)  age 12 ms", "poser: posing view 90,15 touches 1"]
+    character = pygame.Rect(475, 200, 400, 500)
+    panel = r.draw_overlay(target, lines, avoid=[character], must=[])
+    ys, xs = np.nonzero(rgb(target).sum(axis=2) > 100)
+    assert len(xs) > 1000                                     # the text is drawn
+    assert panel.collidepoint(xs.min(), ys.min()) and panel.collidepoint(xs.max(), ys.max())
+    over = (xs >= character.left) & (ys >= character.top) & (ys < character.bottom)
+    assert not over.any() and not panel.colliderect(character)
+    assert panel.h < 720 // 2                                # one compact panel

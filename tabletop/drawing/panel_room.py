@@ -1,0 +1,66 @@
+"""Room for the operator panel beside what it lies over (window pixels): where what is under
+the panel leaves its window side clear, its lines wrap narrower so it ends before it."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import pygame
+
+from tabletop.drawing import screens
+
+# Narrower in steps of NARROW_STEP px, to at least NARROW_MIN px: a source's line with its
+# "(ignored: ...)" counts made the panel 600 px wide at 1280x720, its end seen through over the
+# touch-pose character, and the line's last words read as text running past the panel's edge.
+NARROW_STEP, NARROW_MIN = 32, 320
+
+
+def clips(place: pygame.Rect, rects: Sequence[pygame.Rect]) -> list[pygame.Rect]:
+    """The parts of ``rects`` under a panel at ``place``, in the panel's pixels."""
+    return [place.clip(r).move(-place.x, -place.y) for r in rects if place.colliderect(r)]
+
+
+def narrow_width(place: pygame.Rect, avoid: Sequence[pygame.Rect], window_w: int) -> int | None:
+    """The width (px) a panel at ``place`` wraps to so that it ends before everything of
+    ``avoid`` under it, or None when that leaves less than NARROW_MIN or it is no narrower."""
+    left = place.x <= window_w - place.right
+    ends = [r.left - place.x if left else place.right - r.right
+            for r in avoid if place.colliderect(r)]
+    if not ends:
+        return None
+    width = (min(ends) - 8) // NARROW_STEP * NARROW_STEP
+    return width if NARROW_MIN <= width < place.w else None
+
+
+def narrow_place(place: pygame.Rect, size: tuple[int, int], window: tuple[int, int],
+                 avoid: Sequence[pygame.Rect], must: Sequence[pygame.Rect]
+                 ) -> pygame.Rect | None:
+    """Where a narrower panel of ``size`` stands in the corner of ``place``, or None when it
+    would be taller than the window, lie over the studio's words (``must``), or hide no less
+    of ``avoid``."""
+    (W, H), (w, h) = window, size
+    at = pygame.Rect(place.x if place.x <= W - place.right else place.right - w,
+                     place.y if place.centery < H / 2 else place.bottom - h, w, h)
+    if h > H - 16 or at.collidelist(list(must)) >= 0:
+        return None
+
+    def hidden(r: pygame.Rect) -> int:
+        return sum(c.w * c.h for c in clips(r, avoid))
+    return at if hidden(at) < hidden(place) else None
+
+
+class NarrowPanel:
+    """The narrowed panel, made again only when its lines, height, width or font change."""
+
+    def __init__(self) -> None:
+        self._key: tuple = ()
+        self._img: pygame.Surface | None = None
+
+    def __call__(self, lines: Sequence[str], width: int, cap: int, px: int,
+                 sizes: Sequence[int], keep: bool) -> pygame.Surface:
+        key = (tuple(lines), width, cap, px)
+        if self._img is None or key != self._key:
+            self._img, _ = screens.fitted_panel(lines, width, cap, px, keep=keep,
+                                                px_sizes=[p for p in sizes if p <= px])
+            self._key = key
+        return self._img
