@@ -63,6 +63,17 @@ def test_a_run_shorter_than_a_second_says_its_own_rate():
     assert abs(fps - ticks / run_s) <= 0.05 * ticks / run_s + 0.1
 
 
+def test_the_last_lines_rate_is_the_runs_own_and_the_windows_beside_it_where_they_differ():
+    """"ran N ticks in T s at R fps" reads as N / T: a kiosk said "ran 755 ticks in 12.34 s at
+    65.6 fps" (the kept window's rate after a catch-up); now R is the run's own, the window's
+    rate said beside it where they differ by more than 2%."""
+    from tabletop.commands.run import rate_words
+    assert rate_words(755, 12.34, 65.6, 600) == "61.2 fps (65.6 fps over the last 600 ticks)"
+    assert rate_words(242, 4.0, 60.7, 242) == "60.5 fps"       # within 2%: the average alone
+    assert rate_words(30, 0.5, None, 30) == "60.0 fps"         # no window rate yet
+    assert rate_words(0, 0.0, None, 0) == "0.0 fps"
+
+
 def test_a_run_that_captured_nothing_says_so_in_its_last_line(tmp_path):
     """A camera that never opens: the run goes on ("one moment") and its last line says no
     capture was rendered, not "nan ms"."""
