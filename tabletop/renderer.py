@@ -23,14 +23,12 @@ from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E
 from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import resting, vivid  # noqa: E402
+from tabletop.drawing.palette import PUCK_COLORS, resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
 from tabletop.pointer import POINTER, PointerFingers  # noqa: E402
 from tabletop.table_map import TableToScreen  # noqa: E402
 
-PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
-               (60, 220, 220), (255, 140, 40), (230, 230, 230)]
 IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades

@@ -29,6 +29,13 @@ PUCK_LOST: Color = (255, 86, 96)       # red, fading: the puck has left
 PUCK_OFF: Color = (200, 140, 255)      # violet: a seen puck beyond the table's edge
 PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST}
 
+# A puck id's colour (its label beside the ring): Okabe and Ito's palette, its black made white
+# and its blue lifted 12% to white to read on the dark table (contrast >= 4.5 to TABLE); any two
+# of the eight stay >= 16 apart (CIELAB) as a deuteranope or protanope sees them (red and green,
+# ids 1 and 2 before, were 13 apart to a deuteranope, blue and violet 0.5).
+PUCK_COLORS = [(235, 235, 235), (230, 159, 0), (86, 180, 233), (0, 158, 115), (240, 228, 66),
+               (31, 131, 187), (213, 94, 0), (204, 121, 167)]
+
 
 @functools.lru_cache(maxsize=256)
 def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
