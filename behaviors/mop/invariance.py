@@ -101,7 +101,8 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   :data:`REJUDGE` 1.1, :data:`ALONG` 0.25, :data:`REVERSAL_COS` 0.3: 0.7x 0.865 / 0.815, 0.9253
   / 0.8937, 0.9181 / 0.9040; the size's sums forgotten over 12 / 24 samples 0.9123 / 0.9003,
   0.9171 / 0.8993; rejudged evidence lifted near the likeliest's: worse (wrong ones too).
-- Size probes, as GVF's particles of several scales (measured, not kept): the true size given
+- Size probes, as GVF's particles of several scales (kept only for the best template while
+  no action drives, to a smaller size: :mod:`behaviors.mop.size_probe`): the true size given
   to every template lifts the held-out 0.7x / 1.4x (``--seed=102``) 0.747 / 0.860 -> 0.946 /
   0.956, so most of what is lost there is the estimate (traced: of about 340 lost ticks 124 were
   another action leading while the true one's size was more than 1.15x off). Tried: beside
@@ -268,6 +269,8 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_MOVE, input_reversal, reversal_map,
                                     reversal_size)
+from behaviors.mop.size_probe import (PROBE_FLOOR, PROBE_IDLE, PROBE_RATIO, PROBE_TURN_COS,
+                                      PROBE_TURN_LAG, input_turns, probe_allowed, take_probe)
 
 INVARIANCES = ("scale", "offset", "none")
 #: The least size a performance's reach allows: its farthest sample from the anchor over the
@@ -341,6 +344,7 @@ class PerformanceFrame:
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * self._still_scale
         self._reversal_move2 = float(np.sum((REVERSAL_MOVE * self._still_radius
                                              / self._units) ** 2))
+        self._probe_floor2 = PROBE_FLOOR * float(np.sum((self._still_radius / self._units) ** 2))
 
     def _with_tangents(self) -> TemplateBank:
         """The bank the forward algorithm runs on: each state's features followed, when
@@ -421,6 +425,25 @@ class PerformanceFrame:
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least),
                 lo, hi, out=self._size)
+        if PROBE_RATIO > 0:   # two sizes beside each estimate (behaviors.mop.size_probe)
+            b, g = self.bank, gi + frac
+            recent = self._recent_x[-2 * PROBE_TURN_LAG:]
+            turns = PROBE_TURN_COS >= 1.0 or len(recent) == 2 * PROBE_TURN_LAG and input_turns(
+                np.array(recent)[None], np.array([len(self._recent_x)], dtype=np.intp), 0,
+                x[None], self._units, self._reversal_move2)
+            for k in range(len(self.names)):
+                take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
+                           float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi,
+                           self._num, self._den, self._size, self._least,
+                           float(self._prior[k]), k,
+                           turns and self._probed(k))
+
+    def _probed(self, k: int) -> bool:
+        """Whether template ``k``'s size probes may be taken (:func:`probe_allowed`)."""
+        strained = self._recent_weight[k] > 0.0 and self._recent_dist2(k) > self._accept2
+        return probe_allowed(k == self._acquired, PROBE_IDLE and self._acquired < 0,
+                             k == self._best,
+                             bool(self._refused[k]), bool(strained))
 
     def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
