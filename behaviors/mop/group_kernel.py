@@ -24,8 +24,7 @@ import numpy as np
 import behaviors.mop.compiled
 from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
                            members, path_kernel, reversal, rivals, shape_lead, size_probe,
-                           spotting,
-                           threshold, threshold_kernel, validity)
+                           spotting, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -39,7 +38,7 @@ from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
-from behaviors.mop.size_probe import PROBE_IDLE, input_turns, probe_allowed, take_probe
+from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
@@ -48,8 +47,7 @@ from behaviors.kernel_cache import compiled
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
                invariance, members, path_kernel, reversal, rivals, shape_lead, size_probe,
-               spotting,
-               threshold, threshold_kernel, validity)
+               spotting, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -169,12 +167,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         paused = (rest and UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST)
         turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
-        turns = False
         if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]
             turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
-            turns = input_turns(buf, nbuf, i, x, tu, m[23])   # size_probe
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
@@ -244,12 +240,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 size[k] = min(max(max((num[k] + t[2]) / (den[k] + t[2]), least[k]), lo), hi)
                 take_probe(states, rel0, start + off, start + lk - 1 + off, g + off, dxu,   # sizes
                            probe[k], probe_floor2[k], lo, hi, num, den, size, least, t[2], k,
-                           turns and probe_allowed(
-                               k - a0 == acquired[i], PROBE_IDLE and acquired[i] < 0,
-                               k - a0 == best[i],
-                               refused[k],
-                               rw[k] > 0.0
-                               and (log_constant - rec[k] / rw[k]) * two_over > accept2))
+                           probe_allowed(acquired[i] < 0, k - a0 == best[i], refused[k],
+                                         rw[k] > 0.0 and (log_constant - rec[k] / rw[k])
+                                         * two_over > accept2))
             if row[hend] == row[hend]:   # a hold rested in shows where it ends (holding)
                 at_hold_end[k] = at_hold_end[k] or rest
                 if at_hold_end[k]:

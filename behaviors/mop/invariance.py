@@ -269,8 +269,7 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_MOVE, input_reversal, reversal_map,
                                     reversal_size)
-from behaviors.mop.size_probe import (PROBE_FLOOR, PROBE_IDLE, PROBE_RATIO, PROBE_TURN_COS,
-                                      PROBE_TURN_LAG, input_turns, probe_allowed, take_probe)
+from behaviors.mop.size_probe import PROBE_FLOOR, probe_allowed, take_probe
 
 INVARIANCES = ("scale", "offset", "none")
 #: The least size a performance's reach allows: its farthest sample from the anchor over the
@@ -425,25 +424,18 @@ class PerformanceFrame:
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least),
                 lo, hi, out=self._size)
-        if PROBE_RATIO > 0:   # two sizes beside each estimate (behaviors.mop.size_probe)
-            b, g = self.bank, gi + frac
-            recent = self._recent_x[-2 * PROBE_TURN_LAG:]
-            turns = PROBE_TURN_COS >= 1.0 or len(recent) == 2 * PROBE_TURN_LAG and input_turns(
-                np.array(recent)[None], np.array([len(self._recent_x)], dtype=np.intp), 0,
-                x[None], self._units, self._reversal_move2)
-            for k in range(len(self.names)):
-                take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
-                           float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi,
-                           self._num, self._den, self._size, self._least,
-                           float(self._prior[k]), k,
-                           turns and self._probed(k))
+        b, g = self.bank, gi + frac   # a smaller size beside the best's (size_probe)
+        for k in range(len(self.names)):
+            take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
+                       float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi, self._num,
+                       self._den, self._size, self._least, float(self._prior[k]), k,
+                       self._probed(k))
 
     def _probed(self, k: int) -> bool:
-        """Whether template ``k``'s size probes may be taken (:func:`probe_allowed`)."""
+        """Whether template ``k``'s size probe may be taken (:func:`probe_allowed`)."""
         strained = self._recent_weight[k] > 0.0 and self._recent_dist2(k) > self._accept2
-        return probe_allowed(k == self._acquired, PROBE_IDLE and self._acquired < 0,
-                             k == self._best,
-                             bool(self._refused[k]), bool(strained))
+        return probe_allowed(self._acquired < 0, k == self._best, bool(self._refused[k]),
+                             bool(strained))
 
     def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
