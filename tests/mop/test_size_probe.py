@@ -1,5 +1,5 @@
-"""Size probes (:mod:`behaviors.mop.size_probe`): two sizes beside each estimate, taken when the
-input fits one of them far better."""
+"""Size probes (:mod:`behaviors.mop.size_probe`): a smaller size beside the best template's
+estimate while no action drives, taken when the input fits it far better."""
 
 import numpy as np
 
