@@ -238,11 +238,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 den[k] += qq
                 least[k] = max(least[k], far * t[4])
                 size[k] = min(max(max((num[k] + t[2]) / (den[k] + t[2]), least[k]), lo), hi)
-                take_probe(states, rel0, start + off, start + lk - 1 + off, g + off, dxu,   # sizes
-                           probe[k], probe_floor2[k], lo, hi, num, den, size, least, t[2], k,
-                           probe_allowed(acquired[i] < 0, k - a0 == best[i], refused[k],
-                                         rw[k] > 0.0 and (log_constant - rec[k] / rw[k])
-                                         * two_over > accept2))
+                allowed = probe_allowed(acquired[i] < 0, k - a0 == best[i], refused[k],
+                                        rw[k] > 0.0 and (log_constant - rec[k] / rw[k])
+                                        * two_over > accept2)
+                if allowed or probe[k, 2] > 0.0:   # sums not yet clear (size_probe)
+                    take_probe(states, rel0, start + off, start + lk - 1 + off, g + off, dxu,
+                               probe[k], probe_floor2[k], lo, hi, num, den, size, least, t[2], k,
+                               allowed)
             if row[hend] == row[hend]:   # a hold rested in shows where it ends (holding)
                 at_hold_end[k] = at_hold_end[k] or rest
                 if at_hold_end[k]:

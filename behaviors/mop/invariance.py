@@ -309,16 +309,19 @@ class PerformanceFrame:
                 lo, hi, out=self._size)
         b, g = self.bank, gi + frac   # a smaller size beside the best's (size_probe)
         for k in range(len(self.names)):
-            take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
-                       float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi, self._num,
-                       self._den, self._size, self._least, float(self._prior[k]), k,
-                       self._probed(k))
+            allowed = self._probed(k)
+            if allowed or self._probe[k, 2] > 0.0:   # else its sums are clear already
+                take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
+                           float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi,
+                           self._num, self._den, self._size, self._least,
+                           float(self._prior[k]), k, allowed)
 
     def _probed(self, k: int) -> bool:
-        """Whether template ``k``'s size probe may be taken (:func:`probe_allowed`)."""
-        strained = self._recent_weight[k] > 0.0 and self._recent_dist2(k) > self._accept2
-        return probe_allowed(self._acquired < 0, k == self._best, bool(self._refused[k]),
-                             bool(strained))
+        """Whether template ``k``'s size probe may be taken (:func:`probe_allowed`; only the
+        best's recent distance is read)."""
+        best = k == self._best
+        strained = best and self._recent_weight[k] > 0.0 and self._recent_dist2(k) > self._accept2
+        return probe_allowed(self._acquired < 0, best, bool(self._refused[k]), bool(strained))
 
     def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
