@@ -308,13 +308,14 @@ class PerformanceFrame:
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least),
                 lo, hi, out=self._size)
         b, g = self.bank, gi + frac   # a smaller size beside the best's (size_probe)
-        for k in range(len(self.names)):
-            allowed = self._probed(k)
-            if allowed or self._probe[k, 2] > 0.0:   # else its sums are clear already
-                take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
-                           float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi,
-                           self._num, self._den, self._size, self._least,
-                           float(self._prior[k]), k, allowed)
+        # the best, and any whose sums are left to clear (the rest are clear already)
+        probed = set(np.flatnonzero(self._probe[:, 2] > 0.0).tolist())
+        probed.update([int(self._best)] if self._best >= 0 else [])
+        for k in sorted(probed):
+            take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
+                       float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi, self._num,
+                       self._den, self._size, self._least, float(self._prior[k]), k,
+                       self._probed(k))
 
     def _probed(self, k: int) -> bool:
         """Whether template ``k``'s size probe may be taken (:func:`probe_allowed`; only the
