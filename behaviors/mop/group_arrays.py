@@ -119,7 +119,7 @@ class GroupArrays:
     #: Per-template state shared with the members (each follower's arrays are views of these).
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_least", "_judged", "_at_hold_end", "_reached")
+                     "_least", "_judged", "_at_hold_end", "_reached", "_probe")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
     _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone") + group_layout.SHAPE_LAGS
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
@@ -197,6 +197,7 @@ class GroupArrays:
         self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
         self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
         self._reversal_tol = np.concatenate([f._reversal_tol for f in fs])
+        self._probe_floor2 = np.concatenate([np.full(len(f.names), f._probe_floor2) for f in fs])
         # the threshold models' state (Refusal._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         # ... in single precision (threshold.PRECISION)

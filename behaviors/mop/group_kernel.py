@@ -23,8 +23,8 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
-                           members, path_kernel, reversal, rivals, shape_lead, spotting,
-                           threshold, threshold_kernel, validity)
+                           members, path_kernel, reversal, rivals, shape_lead, size_probe,
+                           spotting, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -38,6 +38,7 @@ from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
+from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
@@ -45,8 +46,8 @@ from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
-               invariance, members, path_kernel, reversal, rivals, shape_lead, spotting,
-               threshold, threshold_kernel, validity)
+               invariance, members, path_kernel, reversal, rivals, shape_lead, size_probe,
+               spotting, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -56,12 +57,13 @@ _S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
                      numba.int64[::1], _F1, _F3, _F3, _I2, numba.intp, numba.intp, numba.float64,
                      numba.float64, _F2, _B1, _I2, _F2, _BB2, _B1, _F2, _S2, _S1, _S1, _F2, _F1,
-                     _F1, _I1, _F1),
+                     _F1, _I1, _F1, _F2, _F1),
            *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      vectors, buf, ints, before, after, rival_p, min_lead, k_out, new_out,
                      top3_out, m_floats, m_flags, present, means, thr_means, alpha, scratch,
-                     thr_z, thr_lj, thr_tops, reversal_at, reversal_tol) -> None:
+                     thr_z, thr_lj, thr_tops, reversal_at, reversal_tol, probe,
+                     probe_floor2) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -89,8 +91,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
     each template's tolerance there
-    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`). ``means``, ``thr_means``:
-    the states' means (D, S), the threshold model's in float32."""
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`); ``probe`` (K, 4),
+    ``probe_floor2`` (K,): :mod:`~behaviors.mop.size_probe`'s sums and floor. ``means``,
+    ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached = floats[11], floats[12], floats[13]
@@ -235,6 +238,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 den[k] += qq
                 least[k] = max(least[k], far * t[4])
                 size[k] = min(max(max((num[k] + t[2]) / (den[k] + t[2]), least[k]), lo), hi)
+                allowed = probe_allowed(acquired[i] < 0, k - a0 == best[i], refused[k],
+                                        rw[k] > 0.0 and (log_constant - rec[k] / rw[k])
+                                        * two_over > accept2)
+                if allowed or probe[k, 2] > 0.0:   # sums not yet clear (size_probe)
+                    take_probe(states, rel0, start + off, start + lk - 1 + off, g + off, dxu,
+                               probe[k], probe_floor2[k], lo, hi, num, den, size, least, t[2], k,
+                               allowed)
             if row[hend] == row[hend]:   # a hold rested in shows where it ends (holding)
                 at_hold_end[k] = at_hold_end[k] or rest
                 if at_hold_end[k]:

@@ -20,7 +20,8 @@ from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 RESTART_ONE = ("_size", "_judged")
 #: Per-template state a new attempt starts at 0: the rest of the kernel's state and the misfit
 #: (GestureSpotting._restart_here), taken from the layout so no name of it can be left out.
-RESTART_ZERO = tuple(n for n in FLOATS + FLAGS + ("_misfit",) if n not in RESTART_ONE)
+RESTART_ZERO = tuple(n for n in FLOATS + FLAGS + ("_misfit", "_probe")
+                     if n not in RESTART_ONE)
 
 
 class GroupRules:

@@ -101,125 +101,9 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   :data:`REJUDGE` 1.1, :data:`ALONG` 0.25, :data:`REVERSAL_COS` 0.3: 0.7x 0.865 / 0.815, 0.9253
   / 0.8937, 0.9181 / 0.9040; the size's sums forgotten over 12 / 24 samples 0.9123 / 0.9003,
   0.9171 / 0.8993; rejudged evidence lifted near the likeliest's: worse (wrong ones too).
-- Size probes, as GVF's particles of several scales (measured, not kept): the true size given
-  to every template lifts the held-out 0.7x / 1.4x (``--seed=102``) 0.747 / 0.860 -> 0.946 /
-  0.956, so most of what is lost there is the estimate (traced: of about 340 lost ticks 124 were
-  another action leading while the true one's size was more than 1.15x off). Tried: beside
-  the estimate each template reads the sample (from the anchor, units) at its size / 1.2 and
-  x 1.2 against its own path (the segments from 8 states before the followed state to 25
-  after, progress free), squared distances remembered over 8 samples; once a probe's is below
-  a ratio of the current size's and that is over 2 squared still radii, the template takes
-  the probe's size (sums set to it, as at a reversal) and the probes restart (follower and
-  group kernel alike). ``--sections=sized,unrelated,holds --seed=N`` (valid after 30% at
-  0.7-1.4x, tuned / held-out 101, 102, 103; unrelated worst tuned / 101, 102, 103), before:
-  0.9121 / 0.9022, 0.8749, 0.9055; 0.058 / 0.099, 0.085, 0.105. Ratio 0.3: 0.9267 / 0.9199,
-  0.9144, 0.9109; worst unchanged (mean 0.0110 -> 0.0118); per size (tuned, 0.6-1.5x) 0.594 /
-  0.801 / 0.922 / 0.948 / 0.959 / 0.930 / 0.915 -> 0.702 / 0.831 / 0.927 / 0.951 / 0.960 /
-  0.964 / 0.945; holds unchanged; the sized subset of ``tests/mop/test_quality.py`` 0.817 ->
-  0.886. Ratio 0.5: 0.9429 / 0.9228, 0.9156, 0.9188, but worst 0.113 / 0.184, 0.138, 0.133 (the
-  diagonal: a size for every slightly bent first stroke); 0.4: 0.9399 / 0.9213, 0.089 / 0.188;
-  memory 12, factor 1.15, floor 4 at 0.5: worst 0.077-0.113 / 0.180-0.192. Not kept at 0.3:
-  ``tests/mop`` failed 12 tests, among them the live example's line at 1.45x not recognised
-  by 60% (``test_live``), the line back to back recognised at 0.51 (``test_spotting``), a
-  triangle driving the square 0.113 of the time (``test_quality``, mirror chains), the
-  circle's chord 0.133 (limit 0.12, ``test_refusal``), a covered start's misfit 0.084 (limit
-  0.06, ``test_coverage``), and the reach's, ALONG's and the crawl rules' own measured gains
-  shrinking under their limits (the probes size those cases too). Only taking a probe that
-  fits within the floor itself (not only 0.3 of the current): 0.9238 / 0.9106, and 7 of the 12
-  still failed. A probe's size not judged afresh (:data:`REJUDGE` not counting its step):
-  0.9042 / 0.9137 at 0.3; at 0.5 0.9271 / 0.9143, worst 0.113 / 0.171: what a probe gains is
-  the fresh judgement, and that is also what lets a wrong template drive. Probes only for
-  templates engaged and not refused: at 0.5 the same 0.9429 / 0.9228, worst 0.113 / 0.184.
-  Why the tests failed: probes for every template let a rival grow to fit the input (on the
-  1.45x line the square's and zigzag's first strokes, the circle along its chord). Probes
-  only for the template driving (not for its rivals) at 0.3: 0.9244 / 0.9152; of the 12 only
-  the reach's and ALONG's measured gains (``test_quality``: with them off the probes size those
-  1.4x and 0.85x cases too, 0.92 and 0.99) and a strained action sized (``test_refusal``, 0.324,
-  limit 0.26) still fail. Not while it is strained either (as at a reversal): 0.9239 / 0.9116,
-  0.8839, 0.9065 (before on these seeds 0.8749, 0.9055); edges 0.754 / 0.675, 0.722, 0.740 ->
-  0.775 / 0.687, 0.727, 0.751; unrelated worst, holds unchanged, mean not higher, each seed; but
-  four tests in ``tests/mop`` fail, each a rule's gain measured with the rule off that the
-  probes now give too: reach and ALONG as above, the reversal's size (0.697 vs 0.412 + 0.3,
-  ``test_invariance``), the crawl take (0.029 vs 0.097 - 0.07). Also tried: probes taken only
-  while the input turns (motion over 3 samples against the 3 before at a cosine below 0.7),
-  every template: 0.9144 / 0.908, 8 tests fail; driving and past 0.3 of the states: 0.9199 /
-  0.9018, and the reversal's and crawl take's gains still fail.
-  Driving and not strained, the four tests measuring their rule with the probes off: full
-  ``bench/follow_quality.py`` sized 0.9239 / 0.9116, ``bench/follow_seeds.py
-  --sections=unrelated,sized,holds`` (seeds 101-106) 0.902 / 0.875 / 0.906 / 0.887 / 0.882 /
-  0.874 -> 0.912 / 0.884 / 0.907 / 0.888 / 0.884 / 0.880, unrelated worst the same on each seed;
-  but after a gesture the unambiguous worst 0.072 -> 0.093, redrawn shapes at aspect 1.1 held-out
-  0.867 -> 0.832, bent 5% 0.866 -> 0.858 (not kept). Traced per tick: after a gesture the action
-  just performed is not what a probe resizes (it ends and restarts as before); the loss is a
-  wrong action taken in a 1.4x wander (the wave, taken at 0.22 of it, after the line and the
-  square): a probe sizes it 0.91 -> 0.76, the wander then fits it within the floor and it drives
-  7-8 samples longer. A redrawn shape takes a wrong size early (a 1.12x roll wrist at aspect 1.1
-  at 0.15 of it: 1.01 -> 0.84, then not valid for 28 samples with its progress right, 0.97 ->
-  0.36; a 0.87x dance ankle 0.84 -> 0.70, 0.70 -> 0): the probes' factor 1.2 is what aspect 1.1
-  makes between the columns. Neither the progress at the take nor what the action carried before
-  it, the probe's ratio or the current size's misfit (in floors) tells these takes from the sized
-  gains (gains at 0.11-0.39 of the gesture with misfits of 0.2-27 floors, losses at 0.15-0.32
-  with 0.5-2.3). Measured (``--sections=sized,after,shapes``; sized tuned / held-out, after
-  worst, aspect 1.1 held-out, bent 5%): no probe against the last one taken (a take undone):
-  0.9239 / 0.9116, 0.088, 0.832, 0.858 (no sized gesture undoes one; aspect 1.2 0.380 -> 0.368);
-  the path read 12 states ahead, not 25: 0.9188 / 0.9116, 0.093, 0.832, 0.858; ratio 0.2: 0.9222
-  / 0.9037, 0.093, 0.832, 0.862; the probe fitting within the floor itself: 0.9213 / 0.9044,
-  0.093, 0.833, 0.858.
-  The probes' factor 1.1 (instead of 1.2): 0.9147 / 0.9041, 0.072, 0.866, 0.869 (edges 0.754 /
-  0.675, as without probes; aspect 1.2 0.384 / 0.427), the follow_seeds sized 0.904 / 0.883 /
-  0.907 / 0.886 / 0.891 / 0.875 (mean 0.8876 -> 0.8909, worst 0.8744 -> 0.8746), unrelated worst
-  unchanged on each seed, holds too but seed 106's RMSE max 0.0425 -> 0.0403: none of the three
-  losses, but a quarter of the gain, and none on the probes' test cases (the 0.7x run and crawl
-  wrists, the 1.4x spinkick ankle: 0.828 with and without); at 1.15: 0.9226 / 0.9008, 0.093,
-  0.848, 0.865; 1.1 with ratio 0.5: 0.9210 / 0.9067, 0.093, 0.852, 0.855.
-  Where the held-out loss lies (the draws of ``bench/follow_seeds.py --sections=sized``, seeds
-  101-106, 0.7-1.4x; per tick after 30%, the first rule in the follower's order keeping the true
-  action from driving): 3217 of 26709 ticks lost; another action best 53% (the true one's size
-  more than 1.15x off on 46% of all lost ticks, most at 0.7x: 1137 lost there, 337 at 1.0x), a
-  take's first sample (``confirm``) 12%, the end reached before the performer's 9%, misshaped 8%,
-  the shape's lead 6%, :func:`~behaviors.mop.validity.stalls` 4% (taken just before a pause), the
-  rest under 3% each. So most of it is a true action *not driving* whose size is off, which probes
-  for the driving action cannot reach: a 0.7x getup facedown wrist is valid on no tick on four
-  seeds of six (its followed progress stalls at 0.07-0.12 at size 0.94-0.97 while the punch ankle
-  and the walk wrist lead); a circle at 1.0-1.2x is led by the spin wrist over its first 40% with
-  its size within 1.15x (shape, not size). Factor 1.1 on the same seeds: 0.9022 / 0.8749 / 0.9055
-  / 0.8871 / 0.8818 / 0.8744 -> 0.9041 / 0.8825 / 0.9074 / 0.8856 / 0.8909 / 0.8746, seeds 107-112
-  0.8653 / 0.8661 / 0.8686 / 0.8877 / 0.8812 / 0.8781 -> 0.8779 / 0.8682 / 0.8695 / 0.8925 /
-  0.8815 / 0.8792; ``bench/follow_quality.py --sections=shapes,after``: after identical, bent 5%
-  0.8646 -> 0.8680 (held-out 0.7450 -> 0.7513), but aspect 1.1 0.8896 -> 0.8880 (held-out 0.8674
-  -> 0.8664), aspect 1.2 0.3843 -> 0.3838, bent 10% 0.6208 -> 0.6198 (not kept: other figures
-  worse; of the 160 tuned shapes eight differ, five lose 0.02-0.06: a dance_b wrist, a wave, a
-  square, a spin ankle, a jump wrist). A probe taken only where the sample fits it in no column
-  worse than at the current size (at the nearest point, within the floor's share of a column): 104
-  0.8856 -> 0.8892, held-out bent 5% 0.7513 -> 0.7521, the rest of 101-106 and of the shapes the
-  same. Probes also for the templates not driving while no action drives: 102 / 106 0.8749 /
-  0.8744 -> 0.892 / 0.874, but back to back a gesture recognised at 0.572 (``test_spotting``,
-  limit 0.57) and an action stopped at a crawl retaken (``test_refusal``); only to a smaller size
-  (always, or while none drives): 0.883 / 0.875.
-  With the column check, remembered over 12 samples instead of 8: seeds 101-106 0.9041 / 0.8752 /
-  0.9085 / 0.8884 / 0.8909 / 0.8741 (mean 0.8902, but 106 under its 0.8744), 107-112 0.8779 /
-  0.8679 / 0.8695 / 0.8925 / 0.8808 / 0.8790; aspect 1.1 0.8896 -> 0.8856 (held-out 0.8674 ->
-  0.8652), bent 10% 0.6208 -> 0.6198; the floor at 4 squared still radii instead of 2: 101-106
-  0.9041 / 0.8832 / 0.9074 / 0.8917 / 0.8909 / 0.8746 (every seed up, mean 0.8920), but the shapes
-  as at factor 1.1 alone (aspect 1.1 0.8880, held-out 0.8659; 1.2 0.3838; bent 10% 0.6198). Not
-  kept: what the probes cost is on redrawn shapes, and neither the column check, a longer memory
-  nor a higher floor removes it.
-  The five tuned shapes that lose lose 1-3 ticks each; two traced (floor 4), neither a wrong take:
-  a square at aspect 1.1 resized 1.16 -> 1.27 at 0.55 of it is valid as before but ends two
-  samples sooner (at 0.99 of it), a wave at aspect 1.1 resized 0.89 -> 0.81 at 0.54 loses two
-  ticks on its way.
-  Probes while no action drives (factor 1.1, ratio 0.3, memory 8, floor 2; sized 101-106 before
-  0.9022 / 0.8749 / 0.9055 / 0.8871 / 0.8818 / 0.8744, 107-112 worst / mean 0.8653 / 0.8745;
-  held-out aspect 1.1 / bent 5% 0.8674 / 0.7450): for every template not refused nor strained
-  (with the driving one's) 0.9038 / 0.8917 / 0.9121 / 0.8858 / 0.8955 / 0.8734, but the square
-  sharing the line's stroke probed 1.12 -> 1.23 holds the line back to back to 0.508 (limit 0.5);
-  the best only 0.9047 / 0.8885 / 0.9131 / 0.8855 / 0.8934 / 0.8745, held-out 0.8492 / 0.7278;
-  the best only, to a smaller size, none for the driving: 0.9024 / 0.8776 / 0.9057 / 0.8871 /
-  0.8875 / 0.8746, 107-112 0.8662 / 0.8763, unrelated, holds, sequences and tuned shapes as
-  before or better, held-out 0.8500 / 0.7215: a dance_a ankle (bent 5%) 0.94 -> 0 and a dance_b
-  ankle (aspect 1.1) 0.70 -> 0, each shrunk at its take from a size near right (0.97 -> 0.88,
-  0.87 -> 0.78), valid 4-5 samples, then refused; at ratio 0.2 the dance_a loss alone and after
-  a gesture mean 0.0639 -> 0.0643. Ratio 0.15 and factor 1.05 take no probe. Not kept.
+- Size probes, as GVF's particles of several scales: kept only for the best template while
+  no action drives, to a smaller size; what was measured, kept and not, is in
+  :mod:`behaviors.mop.size_probe`.
 
 One size per template, the same in every column: a performer's redraw that is taller than wide
 (``bench/follow_shapes.py``) is followed only as far as the misfit allows. Measured and not
@@ -268,6 +152,7 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_MOVE, input_reversal, reversal_map,
                                     reversal_size)
+from behaviors.mop.size_probe import PROBE_FLOOR, probe_allowed, take_probe
 
 INVARIANCES = ("scale", "offset", "none")
 #: The least size a performance's reach allows: its farthest sample from the anchor over the
@@ -341,6 +226,7 @@ class PerformanceFrame:
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * self._still_scale
         self._reversal_move2 = float(np.sum((REVERSAL_MOVE * self._still_radius
                                              / self._units) ** 2))
+        self._probe_floor2 = PROBE_FLOOR * float(np.sum((self._still_radius / self._units) ** 2))
 
     def _with_tangents(self) -> TemplateBank:
         """The bank the forward algorithm runs on: each state's features followed, when
@@ -421,6 +307,22 @@ class PerformanceFrame:
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least),
                 lo, hi, out=self._size)
+        b, g = self.bank, gi + frac   # a smaller size beside the best's (size_probe)
+        # the best, and any whose sums are left to clear (the rest are clear already)
+        probed = set(np.flatnonzero(self._probe[:, 2] > 0.0).tolist())
+        probed.update([int(self._best)] if self._best >= 0 else [])
+        for k in sorted(probed):
+            take_probe(self._rel, 0, int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1),
+                       float(g[k]), r, self._probe[k], self._probe_floor2, lo, hi, self._num,
+                       self._den, self._size, self._least, float(self._prior[k]), k,
+                       self._probed(k))
+
+    def _probed(self, k: int) -> bool:
+        """Whether template ``k``'s size probe may be taken (:func:`probe_allowed`; only the
+        best's recent distance is read)."""
+        best = k == self._best
+        strained = best and self._recent_weight[k] > 0.0 and self._recent_dist2(k) > self._accept2
+        return probe_allowed(self._acquired < 0, best, bool(self._refused[k]), bool(strained))
 
     def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
