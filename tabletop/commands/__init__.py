@@ -5,7 +5,7 @@ from __future__ import annotations
 import errno
 import math
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Sequence
 
 from tabletop.frames import InputError
 
@@ -99,3 +99,18 @@ def png_output(path, option: str, error: type[InputError] = InputError, inputs=(
         raise error(f"{option} {p}: the image is written as PNG; give a file name ending in "
                     f".png, e.g. {p.with_suffix('.png').name}")
     return p
+
+
+def warn_sparse_times(times: Sequence[float], command: str, source: str | Path,
+                      what: str) -> None:
+    """One stderr line when ``times`` (s) are over a second apart (median): milliseconds given
+    for seconds, which made a 20 s main path 798,668 generated rows (``behave``) and a 20 s
+    touch recording 600,000 physics steps (``pose``) without a word. ``what``: the samples'
+    name in the line ("the input frames")."""
+    import sys
+
+    import numpy as np
+    apart = float(np.median(np.diff(np.asarray(times, float)))) if len(times) > 1 else 0.0
+    if apart > 1.0:
+        print(f"tabletop {command}: warning: {source}: {what} are {apart:g} s apart (median); "
+              "times are seconds (milliseconds given?)", file=sys.stderr)

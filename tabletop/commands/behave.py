@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tabletop.commands import number_in_range, output_file
+from tabletop.commands import number_in_range, output_file, warn_sparse_times
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
@@ -213,20 +213,6 @@ def warn_degrees(rows: np.ndarray, columns: dict[str, int], source: str) -> None
                   "directions are radians (degrees given?)", file=sys.stderr)
 
 
-def warn_sparse_main(rows: np.ndarray, source: str) -> None:
-    """One stderr line when the main path's samples are over a second apart (median): times
-    in milliseconds for seconds, which generated 798,668 rows for a 20 s path without a word
-    (a demonstration so given is refused as over an hour long)."""
-    import sys
-
-    import numpy as np
-    apart = float(np.median(np.diff(rows[:, 0]))) if len(rows) > 1 else 0.0
-    if apart > 1.0:
-        print(f"tabletop behave: warning: {source}: the main path's samples are "
-              f"{apart:g} s apart (median); times are seconds "
-              "(milliseconds given?)", file=sys.stderr)
-
-
 def check_library_path(path: Path) -> None:
     """``--train`` naming a library instead of one of its behaviours, or a behaviour the
     library does not have (a typo: "lovr"), is refused naming the library's behaviours, not
@@ -372,7 +358,7 @@ def main(args: argparse.Namespace) -> int:
     warn_still_reactor(demo, source)     # (once trained: an error is its one line)
     warn_degrees(demo, {"main_dir": 3, "react_dir": 6}, source)
     warn_degrees(main_rows, {"main_dir": 3}, args.input)
-    warn_sparse_main(main_rows, args.input)
+    warn_sparse_times(main_rows[:, 0], "behave", args.input, "the main path's samples")
     rows = generate(behavior, main_rows, table)
     write_csv(args.out, OUT_COLUMNS, rows.tolist())
     return 0

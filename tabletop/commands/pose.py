@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tabletop.commands import number_in_range, output_file
+from tabletop.commands import number_in_range, output_file, warn_sparse_times
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
@@ -128,11 +128,7 @@ def warn_units(frames: list[tuple[float, dict[int, tuple[float, float]]]],
         print(f"{said} {path}: {len(off)} of {len(points)} touches lie off the {w:g} x {h:g} m "
               f"table (the first at {x:g}, {y:g}); x, y are table metres (millimetres or pixels "
               "given?)", file=sys.stderr)
-    if len(frames) > 1:
-        apart = float(np.median(np.diff([t for t, _f in frames])))
-        if apart > 1.0:
-            print(f"{said} {path}: the input frames are {apart:g} s apart (median); times are "
-                  "seconds (milliseconds given?)", file=sys.stderr)
+    warn_sparse_times([t for t, _f in frames], "pose", path, "the input frames")
 
 
 def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine: TouchPose,
