@@ -85,6 +85,11 @@ def _quiet_opencv(cv2: Any) -> Iterator[None]:
             log.setLogLevel(level)
 
 
+def folder_images(folder: Path) -> list[Path]:
+    """The images of ``folder`` (a folder INPUT's frames), in name order."""
+    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in IMAGE_SUFFIXES)
+
+
 class FrameReader:
     """Grey frames of INPUT in order: ``frames()`` yields them; ``total`` (None for a camera)
     and ``fps`` (None when the input does not say)."""
@@ -112,8 +117,7 @@ class FrameReader:
             fps = self.capture.get(cv2.CAP_PROP_FPS)
             self.fps = fps if fps and math.isfinite(fps) and fps > 0 else None
         elif path.is_dir():
-            self.files = sorted(p for p in path.iterdir()
-                                if p.is_file() and p.suffix.lower() in IMAGE_SUFFIXES)
+            self.files = folder_images(path)
             if not self.files:
                 raise TrackInputError(f"{spec}: the folder holds no images "
                                       f"({', '.join(sorted(IMAGE_SUFFIXES))})")
@@ -277,8 +281,7 @@ def main(args: argparse.Namespace) -> int:
     # the images of a folder INPUT are inputs too: "--out frames/f000.png" overwrote the first
     # with the poses (and the next run called it "not an image OpenCV can read")
     folder = Path(args.input)
-    images = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) \
-        if folder.is_dir() else []
+    images = folder_images(folder) if folder.is_dir() else []
     out = output_file(args.out, "--out", TrackInputError,
                       inputs=(args.input, args.calibration, args.config, *images))
     if folder.is_dir() and out.suffix.lower() in IMAGE_SUFFIXES \
