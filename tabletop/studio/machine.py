@@ -354,15 +354,16 @@ class Studio(LibraryCommands):
         elif self.save_take is None:      # a replay's: the run it replays saved it
             why = "" if tried else "a replay saves no takes (the run it replays did)"
         else:
-            saved, why = (self._save_tried(self.target), "") if tried else \
-                self._save_recorded(self.target)
+            saved, why = (self._save_made(self.target, "tried_take", "take tried"), "") \
+                if tried else self._save_recorded(self.target)
             self._try.take = Path(saved).name if saved else ""
             # (the countdown before a take's next part: it waits between parts, "ready")
             self._try.take_state = "" if not saved else "ready" if self._part and \
                 self.state == "countdown" else self.state
             if not tried and self.target is not None:
                 self._try.duration_s = round(self.target.seconds(), 3)
-            react = self._save_reaction(self.target) if saved and not tried else ""
+            react = self._save_made(self.target, "recorded_reaction", "reaction recorded") \
+                if saved and not tried else ""
             self._try.take_reaction = Path(react).name if react else ""
         self._drop("quit" if tried or saved else "")
         said = f"; saved as {saved} (not in the library)" if saved else ""
@@ -389,26 +390,17 @@ class Studio(LibraryCommands):
             log.exception("studio: the take recorded was not saved")
             return "", "it could not be written"
 
-    def _save_reaction(self, target: Target | None) -> str:
-        """A sequential take's reaction cut short at quit (its main part saved), saved by
-        :attr:`save_take` beside it: its file, or "" (none, or not written: said in the log)."""
-        fn = getattr(target, "recorded_reaction", None)
-        try:
-            made = fn() if fn is not None else None
-            return self.save_take(*made) if made is not None and self.save_take else ""
-        except Exception:     # (a disk full): the quit goes on, the log says none
-            log.exception("studio: the reaction recorded was not saved")
-            return ""
-
-    def _save_tried(self, target: Target | None) -> str:
-        """The take ``target`` tries, saved by :attr:`save_take`: its file, or "" (none, or
-        not written: said in the log)."""
-        fn = getattr(target, "tried_take", None)
+    def _save_made(self, target: Target | None, made_by: str, what: str) -> str:
+        """The take ``target``'s method ``made_by`` makes (``tried_take``: the take it tries;
+        ``recorded_reaction``: a sequential take's reaction cut short at quit, its main part
+        saved), saved by :attr:`save_take`: its file, or "" (none, or not written: said in the
+        log, naming ``what``)."""
+        fn = getattr(target, made_by, None)
         try:
             made = fn() if fn is not None else None
             return self.save_take(*made) if made is not None and self.save_take else ""
         except Exception:     # (a disk full): the quit goes on, the take's log line says none
-            log.exception("studio: the take tried was not saved")
+            log.exception("studio: the %s was not saved", what)
             return ""
 
     # --- what the view draws ----------------------------------------------------------------------
