@@ -411,16 +411,15 @@ class Renderer:
             lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
             corners += [(8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
         self._corner %= len(corners)    # (a free rows' place falls back to its window corner)
-        clips: dict[int, list[tuple[pygame.Rect, int]]] = {}
+        over: dict[int, list[tuple[pygame.Rect, int]]] = {}
 
         def under(i: int) -> list[tuple[pygame.Rect, int]]:
             """What the panel in corner ``i`` lies over (panel pixels) and its weight."""
-            got = clips.get(i)
+            got = over.get(i)
             if got is None:
                 r = pygame.Rect(corners[i], (w, h))
-                got = clips[i] = [(r.clip(rects[k]).move(-r.x, -r.y), weight)
-                                  for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
-                                  for k in r.collidelistall(rects)]
+                got = over[i] = [(c, weight) for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
+                                 for c in panel_room.clips(r, rects)]
             return got
 
         def hidden(i: int) -> int:
