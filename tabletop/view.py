@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import math
 import os
+import re
 import threading
 import time
 from typing import Any, Iterator
@@ -65,9 +66,28 @@ def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
     return lines
 
 
-def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] | None]:
+def character_lines(frame: Frame) -> list[str]:
+    """The overlay's lines of the characters' status (:attr:`CharacterState.label`)."""
+    return [f"{c.name}: {c.label}" for c in frame.characters if c.label]
+
+
+_FIGURES = re.compile(r"[-+]?\d[\d.,:]*")
+
+
+def told(frame: Frame) -> tuple:
+    """What the characters' overlay lines say, but for their figures: whether each acts
+    (``valid``), its action and its label's words. When it changes (an action begins or
+    ends) the panel must say so at once; figures alone (progress, probability) may wait for
+    the overlay's refresh, as the stage figures do."""
+    return tuple((c.name, c.valid, c.action, _FIGURES.sub("#", c.label))
+                 for c in frame.characters if c.label)
+
+
+def overlay_steps(frame: Frame, stats: LoopStats | None,
+                  characters: bool = True) -> Iterator[list[str] | None]:
     """:func:`overlay_lines` in slices, so that a view can spread the work over frames: yields
-    None after each stage's percentiles (the costly part), then the lines."""
+    None after each stage's percentiles (the costly part), then the lines (the characters'
+    only with ``characters``)."""
     start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
@@ -88,10 +108,7 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")
-    for c in frame.characters:
-        if c.label:
-            lines.append(f"{c.name}: {c.label}")
-    yield lines
+    yield lines + character_lines(frame) if characters else lines
 
 
 def direct_framebuffer() -> None:
@@ -187,7 +204,10 @@ class ProjectorView:
         self.renderer.incremental = True   # present only what changed (bench/view.py)
         self.renderer.invitation = invitation
         self.show_overlay = bool(options["overlay"])
-        self._overlay: list[str] | None = None
+        self._overlay: list[str] | None = None   # the panel's lines: head, characters, notes
+        self._head: list[str] = []      # ... rate, stage figures, sources (refreshed)
+        self._notes: list[str] = []     # ... the notices' (refreshed)
+        self._told: tuple = ()          # what its characters' lines say (:func:`told`)
         self._overlay_t = -math.inf
         self._refresh: Iterator[None] | None = None   # the overlay's refresh in progress
         self.snapshots: Snapshots | None = None
@@ -224,8 +244,8 @@ class ProjectorView:
             # the next frames, so that no frame pays for all of it at once.
             now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
             if self._overlay is None:
-                self._overlay, self._overlay_t = overlay_lines(frame, self.stats), now
-                self._overlay += [n for fn in self.notices for n in fn()]
+                *_, self._head = overlay_steps(frame, self.stats, characters=False)
+                self._notes, self._overlay_t = [n for fn in self.notices for n in fn()], now
             elif self._refresh is None and now >= self._overlay_t + OVERLAY_REFRESH_S:
                 self._refresh, self._overlay_t = self._refreshing(frame), now
             if self._refresh is not None:
@@ -234,7 +254,15 @@ class ProjectorView:
                     if time.perf_counter() >= end:
                         break
                 else:
-                    self._refresh = None
+                    self._refresh, self._overlay = None, None   # its lines take over
+            # The characters' lines are this frame's whenever they say something new (an
+            # action began or ended) and at each refresh: read from the refresh's first
+            # frame, they showed "no action" for up to 16 frames over a figure already
+            # acting (a MOP action's start, 60 Hz). Their figures wait for the refresh.
+            said = told(frame)
+            if self._overlay is None or said != self._told:
+                self._overlay = self._head + character_lines(frame) + self._notes
+                self._told = said
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         if self.prompt.active:
@@ -251,16 +279,16 @@ class ProjectorView:
         """The overlay's next lines, step by step: each stage's percentiles, the notices, each
         changed line's text render; the lines take over when all is done."""
         lines: list[str] | None = None
-        for lines in overlay_steps(frame, self.stats):
+        for lines in overlay_steps(frame, self.stats, characters=False):
             if lines is None:
                 yield
         assert lines is not None
-        lines += [n for fn in self.notices for n in fn()]
-        for line in lines:
+        notes = [n for fn in self.notices for n in fn()]
+        for line in lines + notes:
             for cell in screens.cells(line):
                 screens.panel_line(cell)   # the panel is composed from these when it is drawn
                 yield
-        self._overlay = lines
+        self._head, self._notes = lines, notes
 
     def _events(self) -> None:
         for ev in pygame.event.get():
