@@ -16,7 +16,7 @@ import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
-from tabletop.drawing import panel_room  # noqa: E402
+from tabletop.drawing import panel_room, see_through  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E402
@@ -103,7 +103,7 @@ class Renderer:
         self._narrow = panel_room.NarrowPanel()   # the panel wrapped to end before a character
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
         self.panel: pygame.Rect | None = None   # where the panel was last drawn (px)
-        self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
+        self._see_through = see_through.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
         self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner

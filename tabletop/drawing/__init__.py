@@ -7,6 +7,7 @@
 - :mod:`characters`: every character kind (reactor, skeleton, creature, face, sprite, figure);
 - :mod:`pucks`: halo rings around the physical pucks and their fading trails;
 - :mod:`screens`: the table, the "one moment" screen, the idle look and the overlay panel.
+- :mod:`see_through`: the overlay panel shown through where it lies over a character;
 - :mod:`images`: camera images as surfaces, for the calibration windows;
 - :mod:`reading`: every word turned to read upright for a person at the table's near edge.
 

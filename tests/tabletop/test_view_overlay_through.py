@@ -8,7 +8,7 @@ import numpy as np
 import pygame
 import pytest
 
-from tabletop.drawing import screens
+from tabletop.drawing import screens, see_through
 from tabletop.frames import CharacterState, Frame
 from tabletop.renderer import Renderer
 from tests.tabletop.test_view import TABLE, rgb
@@ -118,7 +118,7 @@ def test_a_panel_the_kernels_cannot_read_is_seen_through_alike():
     part.blit(img, (0, 0), special_flags=pygame.BLEND_RGBA_ADD)
     holes = [pygame.Rect(5, 5, 60, 30), pygame.Rect(40, 10, 60, 30)]
     solid = [pygame.Rect(0, 20, 30, 8)]
-    a, b = (screens.SeeThrough()(s, holes, solid, 150) for s in (img, part))
+    a, b = (see_through.SeeThrough()(s, holes, solid, 150) for s in (img, part))
     assert (pygame.surfarray.array_alpha(a) == pygame.surfarray.array_alpha(b)).all()
     assert (pygame.surfarray.array3d(a) == pygame.surfarray.array3d(b)).all()
     assert pygame.surfarray.array_alpha(a)[30, 15] < pygame.surfarray.array_alpha(img)[30, 15]
