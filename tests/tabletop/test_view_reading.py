@@ -198,9 +198,13 @@ def test_the_operator_panel_reads_upright_on_every_calibration(plain_view, turn)
     def cut(m: np.ndarray) -> np.ndarray:
         rows, cols = np.flatnonzero(m.any(axis=1)), np.flatnonzero(m.any(axis=0))
         return m[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
-    # (its text: its translucent ground changes the table under it, which differs by corner)
+    # (its text: its translucent ground changes the table under it, which differs by corner,
+    # and with it which of its letters' soft edges pass the threshold: extents within 1 px)
     plain, seen = cut(plain_view(table_view, panel, 300)), cut(table_view(turn, panel, 300))
-    assert plain.shape == seen.shape, (plain.shape, seen.shape)
+    assert all(abs(a - b) <= 1 for a, b in zip(plain.shape, seen.shape)), (plain.shape, seen.shape)
+    rows, cols = (max(a, b) for a, b in zip(plain.shape, seen.shape))
+    plain, seen = (np.pad(m, ((0, rows - m.shape[0]), (0, cols - m.shape[1])))
+                   for m in (plain, seen))
     assert overlap(plain, seen) >= SAME, (turn, overlap(plain, seen))
 
 
