@@ -23,7 +23,7 @@ from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E
 from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import PUCK_COLORS, resting, vivid  # noqa: E402
+from tabletop.drawing.palette import resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
 from tabletop.pointer import POINTER, PointerFingers  # noqa: E402
@@ -60,11 +60,6 @@ SEE_THROUGH = 150
 # sliding along the edge moves as it does; its glow may still light the margin, as a puck's ring on
 # the edge does (tabletop.drawing.pucks.inside_edge).
 BODY_REACH = 0.55
-
-
-def puck_color(puck_id: int) -> tuple[int, int, int]:
-    """The identity colour of a puck id (its label in designer mode)."""
-    return PUCK_COLORS[puck_id % len(PUCK_COLORS)]
 
 
 def cameras_down(frame: Frame) -> bool:
@@ -320,13 +315,12 @@ class Renderer:
         return characters.draw_figure(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
-        """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`), 22 px
-        tall and larger in a larger window, as the overlay's text (:func:`screens.panel_sizes`)."""
+        """A puck's id (:func:`pucks.id_label`) 22 px tall, and larger in a larger window, as
+        the overlay's text (:func:`screens.panel_sizes`)."""
         img = self._labels.get(puck_id)
         if img is None:
             px = round(22 * max(1.0, min(self.size) / screens.PANEL_DEEP))
-            img = self._labels[puck_id] = self.map.reading().turn(
-                screens.font(px).render(str(puck_id), True, puck_color(puck_id)))
+            img = self._labels[puck_id] = pucks.id_label(puck_id, px, self.map.reading())
         return img
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:

@@ -12,10 +12,13 @@ import pygame
 
 from tabletop.drawing import halo_kernel, raster
 from tabletop.drawing.discs import discs, uncover
+from tabletop.drawing.reading import Reading
+from tabletop.drawing.screens import font
 from tabletop.drawing.trail_kernel import trails
 from tabletop.drawing import primitives as P
 from tabletop.drawing.life import PuckTrace
-from tabletop.drawing.palette import PUCK_OFF, PUCK_STATES, TABLE, Color, fade, remember, rgb
+from tabletop.drawing.palette import (INK, PUCK_COLORS, PUCK_OFF, PUCK_STATES, TABLE, Color,
+                                      fade, remember, rgb)
 from tabletop.frames import Puck
 from tabletop.table_map import TableToScreen
 
@@ -225,6 +228,32 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     if labels:
         out.extend(surf.blits(labels))
     return out
+
+
+def puck_color(puck_id: int) -> Color:
+    """The identity colour of a puck id (its label in designer mode)."""
+    return PUCK_COLORS[puck_id % len(PUCK_COLORS)]
+
+
+# A puck's id is ringed with dark (:data:`INK`, no light) this many of its pixels wide (at
+# least 1 px): over a character its colour alone did not read (the orange "1" on the pink
+# lover of examples/split, the contrast ratio of their light 1.2).
+LABEL_RIM = 0.06
+
+
+def id_label(puck_id: int, px: int, reading: Reading) -> pygame.Surface:
+    """``puck_id`` in its colour (:func:`puck_color`), ``px`` pixels tall, ringed with dark
+    (:data:`LABEL_RIM`), upright on the table as ``reading`` says."""
+    f, text = font(px), str(puck_id)
+    ink = f.render(text, True, puck_color(puck_id))
+    rim = max(1, round(LABEL_RIM * px))
+    dark = f.render(text, True, INK)
+    out = pygame.Surface((ink.get_width() + 2 * rim, ink.get_height() + 2 * rim),
+                         pygame.SRCALPHA)
+    out.blits([(dark, (rim + dx, rim + dy)) for dx in range(-rim, rim + 1)
+               for dy in range(-rim, rim + 1) if dx * dx + dy * dy <= rim * rim + rim])
+    out.blit(ink, (rim, rim))
+    return reading.turn(out)
 
 
 def warm() -> None:
