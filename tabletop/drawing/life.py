@@ -22,6 +22,11 @@ TRAIL_STEP_M = 0.012    # ... sampled every 1.2 cm of travel
 LOST_S = 1.2            # a puck that left is shown as "lost" for this long
 STRIDE_M = 0.05         # a reactor's feet step once per this much travel
 HINT_TAU_S = 0.15       # a hinted pose (early feedback) fades in and out with this time constant
+# ... and out with this one once its action drives the character: faded over HINT_TAU_S, the
+# hinted pose, frozen where it was last suspected, stayed beside the acting figure for 0.45 s
+# (27 frames at 60 Hz: a grey copy of the salamander's tail under its lit one, examples/mop.yaml
+# at 800x600 and 1920x1080), 45% of the dancer's acting frames; at 0.04 s it is gone in 7
+HINT_GONE_S = 0.04
 JUMP_SPEED = 5.0        # m/s: a character moved faster than this between frames has jumped
 GLIDE_S = 0.4           # ... and is drawn gliding from where it was to its place over this
 
@@ -166,7 +171,8 @@ class Lives:
                 p.phase = (p.phase + p.speed * dt * math.tau / STRIDE_M) % math.tau
                 level = hint_level(c)
                 if level or p.hint:
-                    p.hint += (1.0 - math.exp(-dt / HINT_TAU_S)) * (level - p.hint)
+                    tau = HINT_GONE_S if c.valid else HINT_TAU_S
+                    p.hint += (1.0 - math.exp(-dt / tau)) * (level - p.hint)
             if c.hint_points is not None and not c.valid:
                 p.hint_points = c.hint_points
             p.state, p.t = c, t

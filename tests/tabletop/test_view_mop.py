@@ -58,6 +58,28 @@ def test_a_hinted_pose_is_drawn_faintly_fades_in_and_goes():
     assert abs(int(at(rgb(s), where).sum()) - g) <= 12
 
 
+def test_a_hinted_pose_goes_at_once_when_its_action_drives_the_character():
+    """Once the action is recognised the character itself acts: the hinted pose, frozen where
+    it was last suspected, is not left beside it (a grey copy of the salamander's tail)."""
+    r = Renderer(TABLE, SIZE)
+    s = pygame.Surface(SIZE)
+    hinted = stick(0.2, valid=False, hints=(("wave", 0.9, 0.4),),
+                   hint_points=np.array([[0.2, 0.6], [0.3, 0.6], [0.4, 0.6]]))
+    acting = stick(0.2, valid=True, action="wave")
+    where = r.map.point(0.35, 0.6)       # on the hinted pose, far from the character itself
+    g = ground(r, where)
+    for k in range(20):                  # a third of a second suspected, at 60 Hz
+        r.draw(s, Frame(seq=k, t=1.0 + k / 60, characters=(hinted,)))
+    assert int(at(rgb(s), where).sum()) > g + 60
+    seen = []
+    for k in range(20, 30):              # recognised: it acts
+        r.draw(s, Frame(seq=k, t=1.0 + k / 60, characters=(acting,)))
+        seen.append(int(at(rgb(s), where).sum()) - g)
+    # measured: gone 7 frames after (at 9: 0 above the table's light); fading as slowly as it
+    # comes (0.15 s), 79 above it at 9 frames and gone after 29
+    assert seen[0] > 0 and abs(seen[8]) <= 12, seen
+
+
 def gecko(progress: float = 0.4, heading: float = math.pi,
           head: int = 5) -> tuple[CharacterState, HybridRig]:
     rig = HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), head)
