@@ -11,7 +11,12 @@ _main_stopped). The slope fitted over the last N samples instead (from the newes
 straight motion stays exact), bench/fidelity.py --seeds 0,1,2,3,4,5 against 676 of 720 (the
 engine's alone 8): N = 4 667 (12), N = 3 661 (14), N = 4 for the position only (the direction
 from the last two) 671 (11), and on seeds 8-13 664 (17) against 671 (13) (stalker misses 10 ->
-14). Not used.
+14). Not used. A main whose last two samples moved under 0.05 / 0.03 m/s held instead of
+extrapolated (a standing hand's jitter not doubled), every character, open misses (the
+engine's alone) on seeds 0-5 / 40-51 / 128-139 / 300-311 against 43 (7) / 112 (31) / 104 (21)
+/ 110 (24): 46 (7) / 112 (31) / 106 (28) / 126 (29), 56 (16) / 103 (29) / 100 (22) / 108 (28);
+still/moving misses (the engine's) 30 -> 40 / 44: the still pace, read more surely, comes out
+under the shown one (step_senses.py, _main_stopped). Not used.
 
 Times in seconds, positions in table metres, angles in radians wrapped to (-pi, pi].
 """
