@@ -145,7 +145,7 @@ def warn_alike(templates: dict, paths: dict, follower) -> None:
 
 
 MAX_RESAMPLED = 1_000_000   # samples a template may be resampled to
-UNITS_APART = 100.0   # rates this many times apart are no two rates: milliseconds for seconds
+UNITS_APART = 300.0   # rates this many times apart are no two rates: milliseconds for seconds
 # (a performance's t in ms resampled a 2 s template at 30 Hz to 2 samples, followed as such)
 
 
