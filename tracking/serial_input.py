@@ -374,6 +374,8 @@ def open_failure(exc: BaseException, port: str) -> str:
     open port /dev/x: [Errno 2] No such file or directory: '/dev/x'" -> "No such file or
     directory")."""
     text = str(exc)
+    if "exclusively lock" in text:   # (EAGAIN on the lock _open_serial takes)
+        return "another program holds it (a second installation reading the same device?)"
     for pattern in (r"^(\[Errno -?\d+\] )?could not open port .*?: ", r"^\[Errno -?\d+\] ",
                     r": '" + re.escape(port) + r"'$"):
         text = re.sub(pattern, "", text, flags=re.IGNORECASE)
@@ -381,5 +383,10 @@ def open_failure(exc: BaseException, port: str) -> str:
 
 
 def _open_serial(port: str, baudrate: int) -> Any:
+    """The port opened; a device (not a URL) locked for this process alone: two runs reading
+    one device each got part of its lines, torn ("upuck 1 ...", "pck 1 ..."), the puck seen in
+    148 and 199 of 475 frames and each run's port "lost" again and again."""
     import serial
-    return serial.serial_for_url(port, baudrate=baudrate, timeout=0.05)
+    if "://" in port:
+        return serial.serial_for_url(port, baudrate=baudrate, timeout=0.05)
+    return serial.serial_for_url(port, baudrate=baudrate, timeout=0.05, exclusive=True)

@@ -86,8 +86,11 @@ def _check_demo(demo: Any, p: Params) -> np.ndarray:
             f"demonstration lasts {duration:.3f} s, needs at least {need:.3f} s for a window of "
             f"{p.window} samples at {p.rate_hz:g} Hz", ("window", "rate_hz"))
     if duration > MAX_DEMO_S:
+        apart = float(np.median(steps))   # (a 60 s take in milliseconds said no more)
         raise DemonstrationError(f"demonstration lasts {duration:g} s; at most {MAX_DEMO_S:g} s "
-                                 "can be trained")
+                                 "can be trained" + (f"; its samples are {apart:g} s apart "
+                                 "(median); times are seconds (milliseconds given?)"
+                                                     if apart > 1.0 else ""))
     return a
 
 

@@ -101,6 +101,17 @@ def png_output(path, option: str, error: type[InputError] = InputError, inputs=(
     return p
 
 
+def sparse_hint(times: Sequence[float], what: str) -> str:
+    """The words saying ``times`` (s) are over a second apart (median), so likely milliseconds,
+    ``what`` first; "" when they are not. A warning says them, and so does a refusal of a span
+    too long for its rate (a 60 s main path in milliseconds was refused as "spans 59975 s"
+    without saying why it might)."""
+    import numpy as np
+    apart = float(np.median(np.diff(np.asarray(times, float)))) if len(times) > 1 else 0.0
+    return f"{what} are {apart:g} s apart (median); times are seconds (milliseconds given?)" \
+        if apart > 1.0 else ""
+
+
 def warn_sparse_times(times: Sequence[float], command: str, source: str | Path,
                       what: str) -> None:
     """One stderr line when ``times`` (s) are over a second apart (median): milliseconds given
@@ -108,9 +119,6 @@ def warn_sparse_times(times: Sequence[float], command: str, source: str | Path,
     touch recording 600,000 physics steps (``pose``) without a word. ``what``: the samples'
     name in the line ("the input frames")."""
     import sys
-
-    import numpy as np
-    apart = float(np.median(np.diff(np.asarray(times, float)))) if len(times) > 1 else 0.0
-    if apart > 1.0:
-        print(f"tabletop {command}: warning: {source}: {what} are {apart:g} s apart (median); "
-              "times are seconds (milliseconds given?)", file=sys.stderr)
+    hint = sparse_hint(times, what)
+    if hint:
+        print(f"tabletop {command}: warning: {source}: {hint}", file=sys.stderr)

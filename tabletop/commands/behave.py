@@ -7,7 +7,8 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tabletop.commands import number_in_range, output_file, warn_sparse_times
+from tabletop.commands import (number_in_range, output_file, sparse_hint,
+                               warn_sparse_times)
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
@@ -336,10 +337,11 @@ def main(args: argparse.Namespace) -> int:
         raise refused(exc) from None
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
+        why = sparse_hint(main_rows[:, 0], "; its samples")
         raise BehaveArgumentError(f"{args.input}: the main path spans "
                                   f"{main_rows[-1, 0] - main_rows[0, 0]:g} s, {rows_out:.3g} rows "
                                   f"at {float(params['rate_hz']):g} Hz; at most {MAX_ROWS:,} rows "
-                                  "are generated")
+                                  "are generated" + why)
     try:
         behavior = Behavior.train(demo, **params)
     except ParameterError as exc:

@@ -145,6 +145,8 @@ def warn_alike(templates: dict, paths: dict, follower) -> None:
 
 
 MAX_RESAMPLED = 1_000_000   # samples a template may be resampled to
+UNITS_APART = 300.0   # rates this many times apart are no two rates: milliseconds for seconds
+# (a performance's t in ms resampled a 2 s template at 30 Hz to 2 samples, followed as such)
 
 
 def at_rate(templates: dict, times: dict, paths: dict, rate_hz: float) -> None:
@@ -175,6 +177,10 @@ def at_rate(templates: dict, times: dict, paths: dict, rate_hz: float) -> None:
                                 f"{rate_hz:.3g} Hz (at most {MAX_RESAMPLED:,}); are both "
                                 "columns 't' in seconds?")
         own = 1.0 / float(np.median(steps))
+        if not 1.0 / UNITS_APART <= own / rate_hz <= UNITS_APART:  # not a rate: other units
+            raise TemplateError(f"{paths[name]}: template {name!r} samples are {1.0 / own:.3g} s "
+                                f"apart (median), the performance's {step:.3g} s; are both "
+                                "columns 't' in seconds (milliseconds given for one?)")
         regular = np.all(np.abs(steps - 1.0 / own) <= 0.01 / own)
         said.append(f"{name!r} ({paths[name]}, " + (f"{own:.3g} Hz)" if regular else
                     f"irregular: {steps.min():.3g} to {steps.max():.3g} s apart)"))

@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tabletop.commands import number_in_range, output_file, warn_sparse_times
+from tabletop.commands import (number_in_range, output_file, sparse_hint,
+                               warn_sparse_times)
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
@@ -169,9 +170,10 @@ def main(args: argparse.Namespace) -> int:
     if frames is not None:
         span = frames[-1][0] - frames[0][0] + RUN_ON_S
         if span * rate > MAX_STEPS:
+            why = sparse_hint([t for t, _f in frames], "; its frames")
             raise PoseArgumentError(f"{args.input}: the touches span {span - RUN_ON_S:g} s, "
                                     f"{span * rate:.3g} steps at {rate:g} Hz; at most "
-                                    f"{MAX_STEPS:,} steps are made")
+                                    f"{MAX_STEPS:,} steps are made{why}")
         warn_units(frames, (w, h), args.input)    # (after a refusal: its one line alone)
     from behaviors.touch_pose.engine import TouchPose
     from tabletop.files import atomic_write_text

@@ -169,7 +169,7 @@ def main(args: argparse.Namespace) -> int:
         if args.json and not wrong and st is None:   # --json prints JSON objects only
             wrong = "status is not a JSON object"
         if wrong:  # another program on the port: said in one line, listening goes on
-            print(f"{sender(client)}: bad heartbeat ({wrong})", file=sys.stderr)
+            say(client, f"bad heartbeat {wrong}", f"{sender(client)}: bad heartbeat ({wrong})")
             return
         name, uptime, fps, unhealthy, status = values
         shown.append(True)   # before its line: a Ctrl-C just after the line exited 1
@@ -200,9 +200,13 @@ def main(args: argparse.Namespace) -> int:
             raise exc
         what = one_line(exc) if isinstance(exc, OscError) else \
             f"{type(exc).__name__}: {one_line(exc)}"
-        # said at once, then while the same sender keeps sending the same kind (numbers
-        # aside), after 10 s, 20 s, ... (LogGaps) with the count left unsaid: a program
-        # sending no OSC to the port at 60 Hz filled the terminal with 60 lines a second
+        say(client, what, f"tabletop status: a packet from {sender(client)} refused: {what}")
+
+    def say(client: Any, what: str, line: str) -> None:
+        """``line`` on stderr at once, then while the same sender keeps sending the same kind
+        ``what`` (numbers aside), after 10 s, 20 s, ... (LogGaps) with the count left unsaid: a
+        program sending no OSC to the port at 60 Hz filled the terminal with 60 lines a second,
+        and so did one sending heartbeats of another form (300 lines in 1.5 s)."""
         nonlocal gaps
         key = f"{client[0]} {re.sub(r'[0-9]+', 'N', what)}"
         if key not in unsaid and len(unsaid) >= 1024:   # (from the network: bounded)
@@ -212,8 +216,7 @@ def main(args: argparse.Namespace) -> int:
             unsaid[key] = unsaid.get(key, 0) + 1
             return
         more, unsaid[key] = unsaid.get(key, 0), 0
-        print(f"tabletop status: a packet from {sender(client)} refused: {what}"
-              + (f" ({more} more like it since the last line)" if more else ""),
+        print(line + (f" ({more} more like it since the last line)" if more else ""),
               file=sys.stderr, flush=True)
 
     server.handle_error = handle_error  # type: ignore[method-assign]

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tabletop.file_io import MAX_TEXT_BYTES
 from tabletop.files import atomic_writer, json_loads
 from tabletop.frames import InputError
 
@@ -194,8 +195,18 @@ def read_session(path: Path) -> list[dict]:
     last try; a bad line elsewhere is refused naming its line and what is wrong."""
     p = Path(path)
     if not p.is_file():
-        raise InputError(f"{p}: session log not found")
-    text = p.read_text(encoding="utf-8", errors="replace")
+        raise InputError(f"{p}: " + ("not a regular file (a folder, a named pipe or a device?)"
+                                     if p.exists() else "session log not found"))
+    with p.open("rb") as f:   # a recording told by its first line: a 2 GB one was read whole
+        if _a_recording(f.readline(MAX_TEXT_BYTES).decode("utf-8", errors="replace")):
+            raise InputError(f"{p}: a session recording (`tabletop replay` plays it), not a "
+                             "studio session log")
+        f.seek(0)
+        data = f.read(MAX_TEXT_BYTES + 1)
+    if len(data) > MAX_TEXT_BYTES:
+        raise InputError(f"{p}: over {MAX_TEXT_BYTES // 2**20} MB, more than a studio session "
+                         "log holds (a line a try)")
+    text = data.decode("utf-8", errors="replace")
     lines = text.splitlines()
     out = []
     blank = 0   # the first of the blank lines since the last try (an editor's at the end)
@@ -210,9 +221,6 @@ def read_session(path: Path) -> list[dict]:
             d = json_loads(line)
             _check_try(d)
         except ValueError as exc:
-            if i == 1 and _a_recording(line):
-                raise InputError(f"{p}: a session recording (`tabletop replay` plays it), not "
-                                 "a studio session log") from None
             if i == 1 and _beside_a_log(p):
                 raise InputError(f"{p}: {_beside_a_log(p)}") from None
             if i == len(lines) and not text.endswith("\n"):   # written only in part

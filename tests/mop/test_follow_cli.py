@@ -302,3 +302,22 @@ def test_a_template_at_another_rate_is_resampled_to_the_performance_s(tmp_path, 
     _fails(["follow", "--template", f"circle={tpl}", "--input", str(fast), "--out",
             str(tmp_path / "out.csv")], capsys, "template 'circle' would be 1.99e+06 samples at "
            "the performance's 1e+06 Hz (at most 1,000,000)")
+
+
+def test_a_template_and_a_performance_timed_in_other_units_are_refused(tmp_path, capsys):
+    """A performance's t in milliseconds resampled a 2 s, 30 Hz template to 2 samples (rates
+    1000 times apart are other units, not other rates): refused naming both steps, either way
+    round. Both in milliseconds are one rate: followed as in seconds."""
+    t = np.arange(60) / 30.0
+    xy = np.column_stack([np.cos(math.pi * t), np.sin(math.pi * t)])
+    tpl = _write(tmp_path / "c.csv", ["t", "dx", "dy"], np.column_stack([t, xy]))
+    ms = _write(tmp_path / "c_ms.csv", ["t", "dx", "dy"], np.column_stack([t * 1000, xy]))
+    out = str(tmp_path / "out.csv")
+    _fails(["follow", "--template", f"c={tpl}", "--input", str(ms), "--out", out], capsys,
+           "c.csv: template 'c' samples are 0.0333 s apart (median), the performance's 33.3 s; "
+           "are both columns 't' in seconds (milliseconds given for one?)")
+    _fails(["follow", "--template", f"c={ms}", "--input", str(tpl), "--out", out], capsys,
+           "c_ms.csv: template 'c' samples are 33.3 s apart (median), the performance's 0.0333 s")
+    assert cli(["follow", "--template", f"c={ms}", "--input", str(ms), "--out", out]) == 0
+    _, rows = _read(tmp_path / "out.csv")
+    assert sum(int(r["valid"]) for r in rows) >= 50 and float(rows[-1]["progress"]) > 0.95

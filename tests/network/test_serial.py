@@ -278,6 +278,27 @@ def test_a_missing_device_is_reported_and_retried():
         src.close()
 
 
+def test_a_device_another_source_reads_is_not_opened_until_it_is_free():
+    """Two runs reading one device each got part of its lines, torn ("upuck 1 ...", "pck 1
+    ..."): a second source on a device the first holds waits, saying why, and takes the device
+    once the first lets it go; every line reaches the source reading."""
+    with tracked_pty(5.0) as (master, first, inputs):
+        second = SerialInput("mcu2", first.port, retry_min_s=0.05, retry_max_s=0.1)
+        second.open()
+        try:
+            assert wait_for(lambda: "another program holds it" in second.health().message, 5.0)
+            assert not second.health().ok
+            os.write(master, b"".join(b"puck %d 0.5 0.25 1.0\n" % i for i in range(200)))
+            assert wait_for(lambda: first.lines == 200, 5.0)
+            assert first.bad.counts() == {} and second.lines == 0
+            first.close()
+            assert wait_for(lambda: second.health().ok, 5.0)
+            os.write(master, b"puck 7 0.1 0.1 0\n")
+            assert wait_for(lambda: second.lines == 1, 5.0)
+        finally:
+            second.close()
+
+
 def test_a_device_down_for_long_is_said_once_and_its_return_once(caplog):
     # a kiosk's serial device unplugged for days: every retry was a log line (8 s apart at
     # most); now the reason once (again every 10 minutes), and the return once

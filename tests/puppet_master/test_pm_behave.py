@@ -79,6 +79,10 @@ def _bad(tmp_path, name, text):
     ("long", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
         f"{t},0.5,0.5,0,0.2,0.5,0" for t in [0.025 * i for i in range(60)] + [4000.0]]),
      ["demo.csv: demonstration lasts 4000 s; at most 3600 s can be trained"]),
+    ("milliseconds", lambda d: "\n".join([",".join(DEMO_HEADER)] + [   # a 100 s take in ms
+        f"{25.0 * i},0.5,0.5,0,0.2,0.5,0" for i in range(4000)]),
+     ["lasts 99975 s; at most 3600 s can be trained; its samples are 25 s apart (median); "
+      "times are seconds (milliseconds given?)"]),
     ("far", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
         f"{i * 0.025},0.5,0.5,0,{'1e300' if i == 30 else 0.2},0.5,0" for i in range(100)]),
      ["demo.csv: line 32: column 'react_x': 1e+300 m is beyond 1000 m"]),
@@ -365,3 +369,13 @@ def test_a_main_path_timed_in_milliseconds_is_said(files, tmp_path, capsys):
         "(median); times are seconds (milliseconds given?)" in err, err
     _, out = read_csv(tmp_path / "o.csv")
     assert len(out) == 8001                       # what the line warns of: 200 s at 40 Hz
+    # a 60 s path in milliseconds is refused as too long: the refusal says why it may be
+    long = main[np.arange(1800) % len(main)].copy()
+    long[:, 0] = np.arange(1800) / 30.0 * 1000.0
+    write_csv(tmp_path / "long_ms.csv", MAIN_HEADER, long.tolist())
+    assert behave("--train", d / "demo.csv", "--input", tmp_path / "long_ms.csv", "--out",
+                  tmp_path / "o2.csv") == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "long_ms.csv: the main path spans 59966.7 s" in err and \
+        "rows are generated; its samples are 33.3333 s apart (median); times are seconds " \
+        "(milliseconds given?)" in err, err

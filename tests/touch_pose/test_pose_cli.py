@@ -159,6 +159,11 @@ def test_touches_in_millimetres_or_milliseconds_are_warned_of(tmp_path, capsys):
     assert len(err) == 2 and "mm.csv: 2 of 3 touches lie off the 1.2 x 0.8 m table (the first " \
         "at 600, 400)" in err[0] and "frames are 33 s apart (median)" in err[1], err
     assert len(out.read_text().splitlines()) == 69
+    long = _write(tmp_path / "long.csv", [(i * 100.0, 1, 0.6, 0.4) for i in range(400)])
+    assert main(["pose", "--input", str(long), "--out", str(out)]) == 2   # 39,900 s at 30 Hz
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "steps are made; its frames are 100 s apart (median); times are " \
+        "seconds (milliseconds given?)" in err[0], err
     ok = _write(tmp_path / "ok.csv", [(0, 1, 0.6, 0.4), (0.1, 1, 0.62, 0.4), (0.2, 1, 1.2, 0.8)])
     assert main(["pose", "--input", str(ok), "--out", str(out), "--rate", "1"]) == 0
     assert capsys.readouterr().err == ""
