@@ -79,7 +79,6 @@ class CCD:
                           for p, o in body.part_offset.items()}
         # plain-Python copies of what the inner loop reads (numpy scalar indexing costs ~0.1 us
         # a time, several hundred times a frame)
-        self._parent = [int(p) for p in body.parent]
         self._hinge = [bool(h) for h in body.hinge]
         self._limit = [float(v) for v in body.limit]
         self._cos_half = [math.cos(v / 2) for v in self._limit]
