@@ -4,6 +4,9 @@ camera lens."""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Iterable
+
 import cv2
 import numpy as np
 
@@ -31,7 +34,8 @@ def board_views(n: int, seed: int = 2, size: tuple[int, int] = LENS_SIZE,
     return K, dist, views
 
 
-def write_views(folder, views) -> None:
+def write_views(folder: Path, views: Iterable[np.ndarray]) -> None:
+    """Each grey view as ``folder``/view-NN.png (the folder made)."""
     folder.mkdir(parents=True, exist_ok=True)
     for i, v in enumerate(views):
         cv2.imwrite(str(folder / f"view-{i:02d}.png"), v)

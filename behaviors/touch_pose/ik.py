@@ -25,7 +25,7 @@ posing (bounded to 0.15 m and 30 degrees) still blends postures asked for in pla
 from __future__ import annotations
 
 import math
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -48,7 +48,8 @@ def limit_goal(current: np.ndarray, goal: np.ndarray, limit: float = MAX_CORRECT
     return goal if n <= limit else current + d * (limit / n)
 
 
-def _qaxis(axis, angle):
+def _qaxis(axis: Sequence[float], angle: float) -> tuple[float, float, float, float]:
+    """The unit quaternion (w, x, y, z) turning ``angle`` radians about the unit ``axis``."""
     s = math.sin(angle / 2)
     return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
 

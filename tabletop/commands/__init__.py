@@ -90,8 +90,8 @@ def folder_takes_files(folder: Path, option: str, shown: str | Path,
                     f"{folder_failure(folder, exc)}") from None
 
 
-def png_output(path, option: str, error: type[InputError] = InputError, inputs=(),
-               example: str = "out.png"):
+def png_output(path: str | Path, option: str, error: type[InputError] = InputError,
+               inputs: Iterable[str | Path | None] = (), example: str = "out.png") -> Path:
     """:func:`output_file` for an image written as PNG: a name not ending in .png (``x.jpg``
     would hold PNG bytes under a JPEG name) is refused, suggesting the .png one."""
     p = output_file(path, option, error, inputs=inputs, example=example)

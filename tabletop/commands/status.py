@@ -162,7 +162,7 @@ def main(args: argparse.Namespace) -> int:
 
     came, shown = [], []
 
-    def on_heartbeat(client, address, *values) -> None:
+    def on_heartbeat(client: tuple[Any, ...], address: str, *values: Any) -> None:
         came.append(True)
         wrong = check_heartbeat(values)
         st = status_object(values[4]) if not wrong and args.json else None

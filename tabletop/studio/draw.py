@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import pygame
 
@@ -12,6 +12,9 @@ from tabletop import library
 from tabletop.drawing import screens
 from tabletop.drawing.reading import PLAIN, Reading
 from tabletop.frames import CharacterState
+
+if TYPE_CHECKING:
+    import numpy as np
 
 # ``renderer`` below is the view's tabletop.renderer.Renderer, typed Any: that module imports
 # this one to draw the studio, and the project's imports stay free of cycles
@@ -166,8 +169,10 @@ def fit_lines(text: str, size: int, width: int) -> tuple[str, ...]:
     return tuple(screens.fit_lines(text, font(size), width))
 
 
-def _guide(target: pygame.Surface, renderer, points, color) -> None:
-    """A dotted path from its first point (a ring: put your finger here) to an arrowhead."""
+def _guide(target: pygame.Surface, renderer: Any, points: np.ndarray,
+           color: tuple[int, int, int]) -> None:
+    """A dotted path through ``points`` (N x 2, table metres) from its first point (a ring: put
+    your finger here) to an arrowhead."""
     px = [renderer.map.point(float(x), float(y)) for x, y in points]
     pygame.draw.circle(target, color, px[0], 12, width=2)
     for i, p in enumerate(px[1:-1]):
