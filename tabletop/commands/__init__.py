@@ -23,6 +23,19 @@ def positive_number(text: str, option: str, unit: str,
     return value
 
 
+def number_pair(text: str, option: str, what: str,
+                error: type[InputError] = InputError) -> tuple[float, float]:
+    """``A,B`` of command-line ``option`` as two floats (inf and nan pass: the caller checks the
+    range); anything else raises ``error``: "OPTION 'TEXT' must be WHAT"."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        return float(parts[0]), float(parts[1])
+    except ValueError:
+        raise error(f"{option} {text!r} must be {what}") from None
+
+
 def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: float,
                     error: type[InputError] = InputError, integer: bool = False) -> float:
     """``text`` of command-line ``option`` as a finite number of ``unit`` in [lo, hi] (a whole
