@@ -156,7 +156,8 @@ class MarkerTracker:
                  refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30,
                  verify: bool = True, defer_full: bool = False) -> None:
         if full_period < 1:
-            raise ValueError("full_period must be at least 1")
+            raise ValueError(f"MarkerTracker: full_period {full_period!r} must be at least 1 "
+                             "(frames between full-frame searches)")
         self.full_detector = make_detector(full)
         self._full_params = detector_parameters(full)
         self._full_base_rate = self._full_rate = float(full.min_perimeter_rate)
