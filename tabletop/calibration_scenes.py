@@ -22,7 +22,8 @@ SQUARE_PX = 40  # texture pixels per printed square
 
 def board_views(n: int, seed: int = 2, size: tuple[int, int] = LENS_SIZE,
                 fov_deg: float = 60.0) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
-    """(K, dist, n grey views) of the default printed board before a known lens."""
+    """(K, dist, n grey views) of the default printed board before a known lens: views of
+    ``size`` (W, H) pixels, ``fov_deg`` degrees across."""
     spec = parse_board(DEFAULT_BOARD)
     texture = make_board(spec).generateImage((spec.cols * SQUARE_PX, spec.rows * SQUARE_PX),
                                              marginSize=0, borderBits=1)

@@ -38,7 +38,7 @@ class LogGaps:
         self._seen: dict[str, float] = {}      # key -> when it last happened
 
     def due(self, key: str, now: float) -> bool:
-        """``key`` happened at ``now``: is a line due?"""
+        """``key`` happened at ``now`` (s, the caller's clock): is a line due?"""
         if key not in self._gap or now - self._seen[key] > self.max_s:
             self._gap[key] = 0.0               # a new episode: said at once
         self._seen[key] = now

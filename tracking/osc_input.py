@@ -95,7 +95,8 @@ class OscInput(BackgroundSource):
 
     # ------------------------------------------------------------------ Source protocol
     def wait_listening(self, timeout: float = 5.0) -> bool:
-        """Block until the socket is bound (tests and benchmarks)."""
+        """Block until the socket is bound, at most ``timeout`` seconds; True if it is (tests and
+        benchmarks)."""
         return self._listening.wait(timeout)
 
     def latest(self) -> Observation | None:

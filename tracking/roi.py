@@ -51,7 +51,8 @@ ROI = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10
 
 def boxes_around(centres: np.ndarray, half_sizes: np.ndarray, width: int, height: int
                  ) -> list[Box]:
-    """Square boxes (clipped to the image) of half size ``half_sizes`` around ``centres`` (N, 2)."""
+    """Square boxes (clipped to the ``width`` x ``height`` image) of half size ``half_sizes``
+    around ``centres`` (N, 2), all in pixels."""
     out = []
     for (cx, cy), h in zip(np.asarray(centres, float), np.asarray(half_sizes, float)):
         if not (math.isfinite(cx) and math.isfinite(cy)):

@@ -34,8 +34,8 @@ _FORGET_AT = 64     # stale entries dropped at once (dropping from a list's fron
 
 
 def forget(entries: list, starts: list[float], t: float) -> bool:
-    """Drop the entries (and their start times) that ended over :data:`HISTORY_S` before
-    ``t``, once there are enough of them; True when some were dropped."""
+    """Drop the entries (and their start times, s) that ended over :data:`HISTORY_S` before
+    ``t`` (s), once there are enough of them; True when some were dropped."""
     stale = bisect.bisect_right(starts, t - HISTORY_S) - 2   # keep the one holding t - HISTORY_S
     if stale < _FORGET_AT:
         return False

@@ -71,8 +71,9 @@ class Table:
     def perform(self, name: str, puck: int = 1, speed: Callable[[float], float] = lambda u: 1.0,
                 noise: float = 0.0, seed: int = 0, upto: float = 1.0
                 ) -> list[tuple[float, dict[str, CharacterState]]]:
-        """Move ``puck`` along gesture ``name`` from where it is; ``speed(u)`` is the playback
-        rate at gesture progress u. Returns [(true progress, characters)]."""
+        """Move ``puck`` along gesture ``name`` from where it is, up to progress ``upto``;
+        ``speed(u)`` is the playback rate at gesture progress u, ``noise`` each position's
+        Gaussian noise (standard deviation, metres). Returns [(true progress, characters)]."""
         g = G.gesture(name)
         x0, y0 = self.pucks[puck]
         rng = np.random.default_rng(seed)

@@ -250,6 +250,6 @@ class SessionLog:
         self.wait(timeout)
 
     def wait(self, timeout: float = 30.0) -> None:
-        """Wait for the review sheet being drawn (tests, shutdown)."""
+        """Wait up to ``timeout`` seconds for the review sheet being drawn (tests, shutdown)."""
         if self._drawn is not None:
             self._drawn.wait(timeout)
