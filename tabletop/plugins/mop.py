@@ -190,7 +190,7 @@ def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> N
         if not (ctx.start_without and Path(motion).suffix in (".txt", ".json")):
             raise
         # a kiosk's start: a clip file deleted (or a folder now) is the build's to go without
-        how, found = "clip", action_files(c, {"template": "", "motion": motion}, ctx.base)[1]
+        how, found = "clip", action_files({"template": "", "motion": motion}, ctx.base)[1]
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
         if ctx.start_without:     # a kiosk's start: the build reads it (and may go without)

@@ -64,7 +64,7 @@ class Table:
         self.seq += 1
         return out
 
-    def rest(self, seconds: float, puck: int = 1) -> list[dict[str, CharacterState]]:
+    def rest(self, seconds: float) -> list[dict[str, CharacterState]]:
         """``seconds`` of ticks with the pucks still."""
         return [self.tick() for _ in range(int(seconds * RATE))]
 

@@ -72,7 +72,7 @@ def _words_at(reading: Reading, size: tuple[int, int], dot: int, x: float, y: fl
     return reading.at(size, reading.offset((x, y), dot + 8), (0.0, 0.5))
 
 
-def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
+def _mark_at(renderer: Any, img: pygame.Surface, dot: int,
              avoid: list[pygame.Rect]) -> tuple[float, float]:
     """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``, upright in window
     pixels) has its dot: at the table's far left corner as its reader sees it, or with its
@@ -130,7 +130,7 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
     elif c.action == "recording":
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
         img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
-        x, y = _mark_at(target, renderer, img, dot, avoid)
+        x, y = _mark_at(renderer, img, dot, avoid)
         marks.append(_mark(target, renderer, img, dot, x, y, c.color if on else (120, 30, 30)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
@@ -139,7 +139,7 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
         green = (90, 220, 120)
         img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                                    else "training...", True, green)
-        x, y = _mark_at(target, renderer, img, dot, avoid)
+        x, y = _mark_at(renderer, img, dot, avoid)
         marks.append(_mark(target, renderer, img, dot, x, y, green,
                            0 if c.action == "trying" else 3))
         if c.points is not None and len(c.points) >= 2:
