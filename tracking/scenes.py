@@ -13,11 +13,11 @@ if TYPE_CHECKING:
     from tracking.synthetic import SyntheticCamera, SyntheticFrame
 
 #: A puck's pose: (id, x m, y m, heading rad).
-Pose = tuple[int, float, float, float]
+PuckPose = tuple[int, float, float, float]
 
 
 def grid_poses(n: int, table: tuple[float, float] = (1.2, 0.8), seed: int = 0,
-               jitter: float = 0.02, first_id: int = 0) -> list[Pose]:
+               jitter: float = 0.02, first_id: int = 0) -> list[PuckPose]:
     """``n`` pucks (ids first_id..) on a jittered grid over the table, random headings."""
     rng = np.random.default_rng(seed)
     cols = int(math.ceil(math.sqrt(n * table[0] / table[1])))
@@ -33,7 +33,7 @@ def grid_poses(n: int, table: tuple[float, float] = (1.2, 0.8), seed: int = 0,
 
 def moving_scene(n: int, frames: int, fps: float, table: tuple[float, float] = (1.2, 0.8),
                  speed: float = 0.3, seed: int = 0
-                 ) -> Iterator[tuple[float, list[Pose], list[tuple[float, float]]]]:
+                 ) -> Iterator[tuple[float, list[PuckPose], list[tuple[float, float]]]]:
     """Yield (t s, poses, velocities m/s) of ``n`` pucks circling around their grid places at
     ``speed`` m/s, ``frames`` frames at ``fps``."""
     base = grid_poses(n, table, seed)
