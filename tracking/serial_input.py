@@ -154,6 +154,7 @@ class LineSplitter:
         self.overlong = 0
 
     def feed(self, data: bytes) -> list[bytes]:
+        """The lines that ``data`` completes (without their ``\n``; a ``\r`` before it kept)."""
         lines = []
         start = 0
         while True:
@@ -193,6 +194,8 @@ class SerialState:
         self.streams: dict[str, tuple[np.ndarray, float]] = {}
 
     def apply(self, c: Command, t: float) -> None:
+        """Take command ``c`` heard at ``t`` (monotonic s); LineError("too_many") when a new
+        item made room by forgetting the one repeated longest ago (the command still applies)."""
         if c.verb == "lift":
             self.touches.pop(c.id, None)
             return

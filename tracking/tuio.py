@@ -189,6 +189,8 @@ class TuioClient:
         self.names: dict[str, tuple[str, str]] = {}  # UDP address -> (sender key, source name)
 
     def sender(self, key: str, name: str = "") -> Sender:
+        """The sender of ``key``, made when new (the one heard longest ago forgotten past
+        ``max_senders``)."""
         s = self.senders.get(key)
         if s is None:
             if len(self.senders) >= self.max_senders:
@@ -199,6 +201,8 @@ class TuioClient:
 
     def apply(self, messages: Iterable[tuple[str, tuple[Any, ...]]], address: str, t: float
               ) -> tuple[int, list[TuioError], int]:
+        """Apply one packet's ``messages`` from UDP ``address`` received at ``t`` (monotonic s):
+        (frames committed, what was wrong in it, frames that came late)."""
         # the name this UDP address last sent (the reference clients keep a source until
         # the next one), else the address itself
         key, name = self.names.get(address, (address, address))

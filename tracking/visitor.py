@@ -61,6 +61,7 @@ class Segment:
     moving: bool
 
     def pose(self, t: float) -> tuple[float, float, float]:
+        """(x m, y m, heading rad) at ``t`` (s) within this segment."""
         tau = (t - self.t0) / max(self.t1 - self.t0, 1e-9)
         if not self.moving:
             a = self.a0 + wrap_angle(self.a1 - self.a0) * smoothstep(tau)

@@ -143,6 +143,8 @@ class FrameReader:
             raise TrackInputError(f"{spec}: no such file, folder or camera index")
 
     def frames(self) -> Iterator[Any]:
+        """Every frame of the input in order, grey; TrackInputError for an unreadable image, a
+        video without frames or one cut short before its declared frame count."""
         cv2 = self.cv2
         if self.files is not None:
             for p in self.files:
@@ -207,6 +209,7 @@ class Progress:
         self._open = False      # the bar's line is on screen, not ended yet
 
     def update(self, done: int, force: bool = False) -> None:
+        """Show ``done`` frames of the total (at most every 0.2 s unless ``force``)."""
         if not self.enabled:
             return
         now = time.monotonic()
