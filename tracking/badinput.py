@@ -15,9 +15,17 @@ import threading
 import time
 from typing import Callable
 
-from tabletop.frames import SourceHealth
+from tabletop.frames import InputError, SourceHealth
 
 log = logging.getLogger("tabletop.input")
+
+
+class CountedError(InputError):
+    """Bad input of one ``kind``: the name of the :class:`BadInput` counter it is counted in."""
+
+    def __init__(self, kind: str, message: str) -> None:
+        super().__init__(message)
+        self.kind = kind
 
 
 class LogGaps:
