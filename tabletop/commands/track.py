@@ -142,7 +142,7 @@ class FrameReader:
         else:
             raise TrackInputError(f"{spec}: no such file, folder or camera index")
 
-    def frames(self) -> Iterator[Any]:
+    def frames(self) -> Iterator[np.ndarray]:
         """Every frame of the input in order, grey; TrackInputError for an unreadable image, a
         video without frames or one cut short before its declared frame count."""
         cv2 = self.cv2
