@@ -237,8 +237,8 @@ def pattern_spec(size: tuple[int, int]) -> tuple[BoardSpec, int]:
 
 
 def pattern_image(size: tuple[int, int]) -> np.ndarray:
-    """The calibration pattern (grey, H x W) the projector shows: a ChArUco board centred on a
-    white field."""
+    """The calibration pattern (grey, H x W pixels) a projector of ``size`` (W, H) pixels shows: a
+    ChArUco board centred on a white field."""
     w, h = size
     spec, _ = pattern_spec(size)
     bw, bh = int(spec.cols * spec.square_m), int(spec.rows * spec.square_m)
@@ -259,5 +259,5 @@ def pattern_features(pattern: np.ndarray) -> dict[int, np.ndarray]:
 
 
 def pattern_detector(size: tuple[int, int]) -> cv2.aruco.CharucoDetector:
-    """A detector for the pattern of a ``size`` (W, H) projector."""
+    """A detector for the pattern of a projector of ``size`` (W, H) pixels."""
     return cv2.aruco.CharucoDetector(make_board(pattern_spec(size)[0]))

@@ -95,12 +95,6 @@ class Calibration:
         ideal = apply_homography(self._table_to_camera, points_m)
         return distort_pixels(ideal, self.camera_matrix, self.distortion)
 
-    def table_to_projector_px(self, points_m: np.ndarray) -> np.ndarray:
-        """Table metres (N, 2) -> projector pixels (N, 2); ValueError without a projector fit."""
-        if self.table_to_projector is None:
-            raise ValueError("the calibration has no table_to_projector")
-        return apply_homography(self.table_to_projector, points_m)
-
     def projector_to_table(self, points_px: np.ndarray) -> np.ndarray:
         """Projector pixels (N, 2) -> table metres (N, 2); ValueError without a projector fit."""
         if self.table_to_projector is None:

@@ -4,6 +4,9 @@ camera lens."""
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Iterable
+
 import cv2
 import numpy as np
 
@@ -19,7 +22,8 @@ SQUARE_PX = 40  # texture pixels per printed square
 
 def board_views(n: int, seed: int = 2, size: tuple[int, int] = LENS_SIZE,
                 fov_deg: float = 60.0) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
-    """(K, dist, n grey views) of the default printed board before a known lens."""
+    """(K, dist, n grey views) of the default printed board before a known lens: views of
+    ``size`` (W, H) pixels, ``fov_deg`` degrees across."""
     spec = parse_board(DEFAULT_BOARD)
     texture = make_board(spec).generateImage((spec.cols * SQUARE_PX, spec.rows * SQUARE_PX),
                                              marginSize=0, borderBits=1)
@@ -31,7 +35,8 @@ def board_views(n: int, seed: int = 2, size: tuple[int, int] = LENS_SIZE,
     return K, dist, views
 
 
-def write_views(folder, views) -> None:
+def write_views(folder: Path, views: Iterable[np.ndarray]) -> None:
+    """Each grey view as ``folder``/view-NN.png (the folder made)."""
     folder.mkdir(parents=True, exist_ok=True)
     for i, v in enumerate(views):
         cv2.imwrite(str(folder / f"view-{i:02d}.png"), v)

@@ -127,20 +127,19 @@ class Component(Spec):
         return {"kind": kind, "name": name, **validated}
 
 
-def _unique_names(key: str):
-    def check(cfg: dict, path: str, ctx: Context) -> None:
-        seen: set[str] = set()
-        for i, item in enumerate(cfg[key]):
-            if item["name"] in seen:
-                raise ctx.error(f"{key}[{i}].name", f"duplicate name {item['name']!r}; "
-                                "give each one its own 'name'")
-            seen.add(item["name"])
-    return check
+def _check_unique_names(cfg: dict, key: str, ctx: Context) -> None:
+    """Refuse two items of ``cfg[key]`` (a list of named parts) with one name."""
+    seen: set[str] = set()
+    for i, item in enumerate(cfg[key]):
+        if item["name"] in seen:
+            raise ctx.error(f"{key}[{i}].name", f"duplicate name {item['name']!r}; "
+                            "give each one its own 'name'")
+        seen.add(item["name"])
 
 
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     for key in ("sources", "engines", "sinks"):
-        _unique_names(key)(cfg, path, ctx)
+        _check_unique_names(cfg, key, ctx)
     check_calibrations(cfg, ctx)
     check_marker_ids(cfg, ctx)
     check_scripted_pucks(cfg, ctx)

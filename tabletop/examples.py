@@ -158,8 +158,9 @@ def _trained(folder: Path, name: str, perturb: float = 0.0) -> tuple[Behavior, d
 
 def fidelity_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.PERSONALITIES,
                    seconds: float = 40.0, seed: int = 0, perturb: float = 0.0) -> Rows:
-    """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``
-    (``perturb``: see :func:`_trained`; bench/fidelity.py --perturb)."""
+    """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``, on
+    unseen main paths ``seconds`` long (``perturb``: see :func:`_trained`; bench/fidelity.py
+    --perturb)."""
     paths = visitors.unseen_main_paths(seed, seconds, TABLE)
     out: Rows = {}
     for name in names:
@@ -173,7 +174,8 @@ def pursuit_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.C
                   seconds: float = 40.0, seed: int = 0) -> Rows:
     """{behaviour: {visitors.PURSUIT: compared row}}: the characters whose demonstration shows
     them chased (designers.CHASED), generated against an unseen visitor going after them (a
-    closed loop, visitors.Pursuer), the situation their demonstration shows."""
+    closed loop, visitors.Pursuer, ``seconds`` long), the situation their demonstration
+    shows."""
     out: Rows = {}
     for name in names:
         behavior, demo = _trained(folder, name)

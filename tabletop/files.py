@@ -118,8 +118,8 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
 
 def check_increasing(t: np.ndarray, path: str | Path, column: str = "t",
                      lines: Sequence[int] | None = None) -> None:
-    """Raise FileFormatError unless times strictly increase; names the first bad row by its
-    file line (``lines``, from :func:`read_csv_lines`) or else by its data row number."""
+    """Raise FileFormatError unless times ``t`` (s) strictly increase; names the first bad row by
+    its file line (``lines``, from :func:`read_csv_lines`) or else by its data row number."""
     bad = np.flatnonzero(np.diff(t) <= 0)
     if bad.size:
         i = int(bad[0]) + 1

@@ -140,8 +140,11 @@ def demonstration_csv(demo: np.ndarray) -> str:
     a = np.asarray(demo, dtype=float)
     if a.ndim != 2 or a.shape[1] != len(COLUMNS):
         raise LibraryError(f"demonstration has shape {a.shape}, expected (rows, {len(COLUMNS)})")
-    if not np.isfinite(a).all():
-        raise LibraryError("demonstration holds values that are not finite numbers")
+    bad = np.argwhere(~np.isfinite(a))
+    if bad.size:
+        r, c = (int(i) for i in bad[0])
+        raise LibraryError(f"demonstration row {r + 1} of {len(a)}: {COLUMNS[c]} is {a[r, c]}; "
+                           "a demonstration with values that are not finite numbers is not saved")
     return format_csv(COLUMNS, a.tolist())
 
 

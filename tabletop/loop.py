@@ -106,7 +106,7 @@ class Loop:
     # with this SCHED_FIFO priority, ahead of every ordinary program (see realtime.py).
     realtime_priority = 0
 
-    def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
+    def __init__(self, inputs: LiveInputs | FrameInputs, engines: Sequence[Engine],
                  sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
                  commands: CommandQueue | None = None, stop: threading.Event | None = None,
                  clock: Callable[[], float] = time.monotonic, paced: bool = True,

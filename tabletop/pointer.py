@@ -32,7 +32,7 @@ class PointerFingers:
         self._next = FIRST_ID + 1
 
     def press(self, x: float, y: float, pin: bool = False) -> None:
-        """Button down at table (x, y); ``pin`` (Shift) pins or lifts a pinned finger."""
+        """Button down at table (x, y) metres; ``pin`` (Shift) pins or lifts a pinned finger."""
         with self._lock:
             if pin:
                 near = [i for i, (px, py) in self._pinned.items()

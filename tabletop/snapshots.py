@@ -180,7 +180,7 @@ class Snapshots:
                 break
         return path, False
 
-    def _write(self, surface, path: Path, claimed: bool = False) -> None:
+    def _write(self, surface: pygame.Surface, path: Path, claimed: bool = False) -> None:
         error = save_png(surface, path)
         if error and claimed:            # no empty snapshot left where the write failed
             try:

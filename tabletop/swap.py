@@ -28,7 +28,7 @@ import tempfile
 import threading
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, Mapping
+from typing import Any, Callable, Iterator, Mapping
 
 from tabletop.files import fsync_folder, write_synced
 from tabletop.frames import InputError
@@ -238,7 +238,7 @@ def _recover_held(target: Path) -> list[str]:
     return done
 
 
-def _writable_and_again(func, path: str, _exc_info) -> None:
+def _writable_and_again(func: Callable[[str], Any], path: str, _exc_info: object) -> None:
     """``shutil.rmtree``'s error handler: a read-only folder inside (a designer's ``refs/`` at
     0555, not run as root) is made writable and the removal tried again; OSError if not."""
     os.chmod(os.path.dirname(path), 0o700)

@@ -15,9 +15,17 @@ import threading
 import time
 from typing import Callable
 
-from tabletop.frames import SourceHealth
+from tabletop.frames import InputError, SourceHealth
 
 log = logging.getLogger("tabletop.input")
+
+
+class CountedError(InputError):
+    """Bad input of one ``kind``: the name of the :class:`BadInput` counter it is counted in."""
+
+    def __init__(self, kind: str, message: str) -> None:
+        super().__init__(message)
+        self.kind = kind
 
 
 class LogGaps:
@@ -38,7 +46,7 @@ class LogGaps:
         self._seen: dict[str, float] = {}      # key -> when it last happened
 
     def due(self, key: str, now: float) -> bool:
-        """``key`` happened at ``now``: is a line due?"""
+        """``key`` happened at ``now`` (s, the caller's clock): is a line due?"""
         if key not in self._gap or now - self._seen[key] > self.max_s:
             self._gap[key] = 0.0               # a new episode: said at once
         self._seen[key] = now

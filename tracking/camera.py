@@ -30,7 +30,7 @@ from typing import Any, Callable, Protocol
 import numpy as np
 
 from tabletop.frames import Observation, SourceHealth
-from tracking.badinput import RetryLog
+from tracking.badinput import BackgroundSource, RetryLog
 
 log = logging.getLogger("tabletop.camera")
 
@@ -223,7 +223,7 @@ class PhaseLock:
         return last + k * tick - lead
 
 
-class CameraSource:
+class CameraSource(BackgroundSource):
     """A ``Source`` whose thread grabs and processes frames, keeping only the newest observation.
 
     ``process(image, t, n)`` turns a frame (grey when ``settings.grey``) captured at ``t``
@@ -246,8 +246,7 @@ class CameraSource:
         self.process = process or (lambda image, t, n: Observation(name, t, n, image=image))
         self.opener = opener
         self._lock = threading.Lock()
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._init_thread()
         self._latest: Observation | None = None
         self._last_frame_t = -math.inf
         self._frames = 0
@@ -265,6 +264,7 @@ class CameraSource:
 
     # ------------------------------------------------------------------ Source protocol
     def open(self) -> None:
+        """As :class:`BackgroundSource`'s, noting when the start began (health's grace)."""
         if self._thread is not None:
             return
         self._stop.clear()
@@ -299,12 +299,6 @@ class CameraSource:
         if note:
             message = f"{message} ({note})"
         return SourceHealth(self.name, ok, message, age)
-
-    def close(self) -> None:
-        self._stop.set()
-        if self._thread is not None:
-            self._thread.join(timeout=5.0)
-            self._thread = None
 
     # ------------------------------------------------------------------ the capture thread
     def _set(self, ok: bool, message: str, retry_at: float | None = None) -> None:

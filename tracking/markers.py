@@ -61,7 +61,8 @@ def detector_parameters(s: DetectorSettings) -> cv2.aruco.DetectorParameters:
     """OpenCV ``DetectorParameters`` for ``s``."""
     p = cv2.aruco.DetectorParameters()
     if s.corner_refinement not in CORNER_REFINEMENTS:
-        raise ValueError(f"unknown corner refinement {s.corner_refinement!r}")
+        raise ValueError(f"DetectorSettings.corner_refinement {s.corner_refinement!r} is unknown "
+                         f"(known: {', '.join(CORNER_REFINEMENTS)})")
     p.cornerRefinementMethod = CORNER_REFINEMENTS[s.corner_refinement]
     p.cornerRefinementWinSize = int(s.subpix_window_px)
     p.errorCorrectionRate = float(s.error_correction_rate)

@@ -157,7 +157,8 @@ def decode_packet(data: bytes, max_depth: int = MAX_DEPTH, max_messages: int = M
     deepest = 1
     stack = [(len(BUNDLE_TAG) + 8, len(data), 1)]  # (next element, bundle end, depth)
     if len(data) < len(BUNDLE_TAG) + 8:
-        raise OscError("bundle shorter than its header")
+        raise OscError(f"bundle of {len(data)} bytes is shorter than its "
+                       f"{len(BUNDLE_TAG) + 8}-byte header")
     while stack:
         i, end, depth = stack.pop()
         if i >= end:

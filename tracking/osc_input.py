@@ -36,7 +36,7 @@ import re
 import socket
 import threading
 import time
-from typing import TYPE_CHECKING, Callable, Iterable
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 import numpy as np
 
@@ -95,7 +95,8 @@ class OscInput(BackgroundSource):
 
     # ------------------------------------------------------------------ Source protocol
     def wait_listening(self, timeout: float = 5.0) -> bool:
-        """Block until the socket is bound (tests and benchmarks)."""
+        """Block until the socket is bound, at most ``timeout`` seconds; True if it is (tests and
+        benchmarks)."""
         return self._listening.wait(timeout)
 
     def latest(self) -> Observation | None:
@@ -321,22 +322,22 @@ def make_server(host: str, port: int, sink: OscInput) -> BlockingOSCUDPServer:
             self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
             super().server_bind()
 
-        def get_request(self):
+        def get_request(self) -> tuple[Any, tuple[Any, ...]]:
             """The datagram and its sender, the sender's address plain (once per packet)."""
             request, client_address = super().get_request()
             return request, (plain_address(client_address[0]), *client_address[1:])
 
-        def verify_request(self, request, client_address) -> bool:
+        def verify_request(self, request: Any, client_address: Any) -> bool:
             sender = client_address[0]
             if sink.allow and sender not in sink.allow:
                 sink.bad.count("not_allowed", f"packet from {sender}")
                 return False
             return True
 
-        def finish_request(self, request, client_address) -> None:
+        def finish_request(self, request: Any, client_address: Any) -> None:
             sink.handle(request[0], (client_address[0], client_address[1]))
 
-        def handle_error(self, request, client_address) -> None:
+        def handle_error(self, request: Any, client_address: Any) -> None:
             sink.bad.count("internal_error", f"from {client_address}")
 
     server = Server((host, port), Dispatcher())

@@ -115,7 +115,7 @@ class PuckTracker:
 
     # ------------------------------------------------------------------ public
     def update(self, observations: Sequence[Observation], t: float) -> tuple[Puck, ...]:
-        """New observations (by source and seq) are applied; then lost pucks expire at ``t``."""
+        """New observations (by source and seq) are applied; then lost pucks expire at ``t`` (s)."""
         fresh = []
         for obs in observations:
             seq, ids = self._seen_seq.get(obs.source, (None, frozenset()))
@@ -153,7 +153,8 @@ class PuckTracker:
         return self._pucks
 
     def predict(self, t: float) -> dict[int, tuple[float, float]]:
-        """Predicted (x, y) of every track at time ``t`` (for region-of-interest detection).
+        """Predicted (x, y) (table metres) of every track at time ``t`` (s), for
+        region-of-interest detection.
 
         Called from camera threads while the loop updates the tracks: the tracks are copied in
         one step (atomic under the GIL) before they are read."""

@@ -51,7 +51,8 @@ ROI = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10
 
 def boxes_around(centres: np.ndarray, half_sizes: np.ndarray, width: int, height: int
                  ) -> list[Box]:
-    """Square boxes (clipped to the image) of half size ``half_sizes`` around ``centres`` (N, 2)."""
+    """Square boxes (clipped to the ``width`` x ``height`` image) of half size ``half_sizes``
+    around ``centres`` (N, 2), all in pixels."""
     out = []
     for (cx, cy), h in zip(np.asarray(centres, float), np.asarray(half_sizes, float)):
         if not (math.isfinite(cx) and math.isfinite(cy)):
@@ -156,7 +157,8 @@ class MarkerTracker:
                  refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30,
                  verify: bool = True, defer_full: bool = False) -> None:
         if full_period < 1:
-            raise ValueError("full_period must be at least 1")
+            raise ValueError(f"MarkerTracker: full_period {full_period!r} must be at least 1 "
+                             "(frames between full-frame searches)")
         self.full_detector = make_detector(full)
         self._full_params = detector_parameters(full)
         self._full_base_rate = self._full_rate = float(full.min_perimeter_rate)

@@ -3,12 +3,21 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Callable, Iterator, Sequence
 
 import numpy as np
 
+if TYPE_CHECKING:
+    from tabletop.frames import Puck
+    from tracking.pucks import TrackerSettings
+    from tracking.synthetic import SyntheticCamera, SyntheticFrame
+
+#: A puck's pose: (id, x m, y m, heading rad).
+PuckPose = tuple[int, float, float, float]
+
 
 def grid_poses(n: int, table: tuple[float, float] = (1.2, 0.8), seed: int = 0,
-               jitter: float = 0.02, first_id: int = 0) -> list[tuple[int, float, float, float]]:
+               jitter: float = 0.02, first_id: int = 0) -> list[PuckPose]:
     """``n`` pucks (ids first_id..) on a jittered grid over the table, random headings."""
     rng = np.random.default_rng(seed)
     cols = int(math.ceil(math.sqrt(n * table[0] / table[1])))
@@ -23,8 +32,10 @@ def grid_poses(n: int, table: tuple[float, float] = (1.2, 0.8), seed: int = 0,
 
 
 def moving_scene(n: int, frames: int, fps: float, table: tuple[float, float] = (1.2, 0.8),
-                 speed: float = 0.3, seed: int = 0):
-    """Yield (t, poses, velocities) of ``n`` pucks circling around their grid places."""
+                 speed: float = 0.3, seed: int = 0
+                 ) -> Iterator[tuple[float, list[PuckPose], list[tuple[float, float]]]]:
+    """Yield (t s, poses, velocities m/s) of ``n`` pucks circling around their grid places at
+    ``speed`` m/s, ``frames`` frames at ``fps``."""
     base = grid_poses(n, table, seed)
     rng = np.random.default_rng(seed + 1)
     radius = min(table[0], table[1]) / (2.5 * math.ceil(math.sqrt(n)))
@@ -47,7 +58,8 @@ class CameraPipeline:
     """Synthetic camera frames -> region-of-interest detection -> puck tracker, in table metres
     (the camera's exact homography stands in for a calibration)."""
 
-    def __init__(self, cam, settings=None, full_period: int = 3) -> None:
+    def __init__(self, cam: SyntheticCamera, settings: TrackerSettings | None = None,
+                 full_period: int = 3) -> None:
         from tracking.pucks import PuckTracker
         from tracking.roi import MarkerTracker
         self.cam = cam
@@ -57,14 +69,17 @@ class CameraPipeline:
         self.H_table_to_img = cam.table_to_image_homography()
 
     def to_table(self, px: np.ndarray) -> np.ndarray:
+        """Image pixels (N, 2) -> table metres (N, 2)."""
         hp = np.column_stack([px, np.ones(len(px))]) @ self.H_img_to_table.T
         return hp[:, :2] / hp[:, 2:3]
 
     def to_image(self, xy: np.ndarray) -> np.ndarray:
+        """Table metres (N, 2) -> image pixels (N, 2)."""
         hp = np.column_stack([xy, np.ones(len(xy))]) @ self.H_table_to_img.T
         return hp[:, :2] / hp[:, 2:3]
 
-    def process(self, frame):
+    def process(self, frame: SyntheticFrame) -> tuple[Puck, ...]:
+        """The pucks (table metres) after one rendered frame."""
         from tracking.markers import marker_measurements
         pred = self.tracker.predict(frame.t)
         pred_px = {}
@@ -77,7 +92,9 @@ class CameraPipeline:
         return self.tracker.step(ms, frame.t)
 
 
-def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, int]:
+def score_detections(frames: Sequence[SyntheticFrame],
+                     outputs: Sequence[tuple[np.ndarray, np.ndarray]]
+                     ) -> tuple[float, np.ndarray, np.ndarray, int]:
     """How detections ``outputs`` [(ids, corners px), ...] did on rendered ``frames``: the share
     of fully visible markers found, centre errors (px) and heading errors (rad) of those found,
     and the number of ids reported that are not on the table."""
@@ -101,7 +118,7 @@ def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, in
     return found / max(visible, 1), np.array(errs), np.array(heads), false_ids
 
 
-def wait_for(predicate, timeout: float, every_s: float = 0.01) -> bool:
+def wait_for(predicate: Callable[[], object], timeout: float, every_s: float = 0.01) -> bool:
     """Poll ``predicate`` every ``every_s`` seconds until it holds (True) or ``timeout`` seconds
     pass (False): for sources whose threads deliver in their own time."""
     import time

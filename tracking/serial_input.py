@@ -40,9 +40,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.frames import (MAX_FEATURE, MAX_MARKER_ID, InputError, Observation,
+from tabletop.frames import (MAX_FEATURE, MAX_MARKER_ID, Observation,
                              PuckMeasurement, SourceHealth, Touch, wrap_angle)
-from tracking.badinput import BackgroundSource, BadInput, RetryLog
+from tracking.badinput import BackgroundSource, BadInput, CountedError, RetryLog
 
 log = logging.getLogger("tabletop.serial")
 
@@ -57,12 +57,8 @@ NAME = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
 BARE_CR = re.compile(rb"\r[^\n\0]")   # a \r that ends no line (NUL padding may follow one)
 
 
-class LineError(InputError):
+class LineError(CountedError):
     """A serial line is wrong; ``kind`` is its counter name."""
-
-    def __init__(self, kind: str, message: str) -> None:
-        super().__init__(message)
-        self.kind = kind
 
 
 @dataclass(frozen=True, slots=True)
@@ -154,6 +150,7 @@ class LineSplitter:
         self.overlong = 0
 
     def feed(self, data: bytes) -> list[bytes]:
+        """The lines that ``data`` completes (without their ``\n``; a ``\r`` before it kept)."""
         lines = []
         start = 0
         while True:
@@ -193,6 +190,8 @@ class SerialState:
         self.streams: dict[str, tuple[np.ndarray, float]] = {}
 
     def apply(self, c: Command, t: float) -> None:
+        """Take command ``c`` heard at ``t`` (monotonic s); LineError("too_many") when a new
+        item made room by forgetting the one repeated longest ago (the command still applies)."""
         if c.verb == "lift":
             self.touches.pop(c.id, None)
             return

@@ -119,7 +119,6 @@ class SyntheticCamera:
         f = min(self.w * (0.5 - s.margin) / half_w, self.h * (0.5 - s.margin) / half_h)
         self.K = np.array([[f, 0.0, self.w / 2.0 - f * cx0],
                            [0.0, f, self.h / 2.0 - f * cy0], [0.0, 0.0, 1.0]])
-        self.K_centred = np.array([[f, 0.0, self.w / 2.0], [0.0, f, self.h / 2.0], [0, 0, 1.0]])
 
     def homography(self, z: float = 0.0) -> np.ndarray:
         """Table (x, y) metres on the plane at height ``z`` -> ideal (undistorted) image pixels."""

@@ -30,7 +30,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Sequence
 
-from tabletop.frames import MAX_MARKER_ID, InputError, wrap_angle
+from tabletop.frames import MAX_MARKER_ID, wrap_angle
+from tracking.badinput import CountedError
 from tracking.osc_codec import encode_bundle, encode_message
 
 MAX_SOURCE = 200   # characters of a sender's source name kept (a longer one is cut)
@@ -50,13 +51,9 @@ MAX_SPEED = 1e6           # |X|, |Y| (TUIO units/s) and |A| (turns/s) beyond thi
 PACKET_LIMIT = 4096       # reference servers split bundles at this size
 
 
-class TuioError(InputError):
+class TuioError(CountedError):
     """A TUIO message is wrong; ``kind`` is its counter name (wrong_arguments, non_finite,
     out_of_range, unknown_command, too_many, no_fseq, not_alive)."""
-
-    def __init__(self, kind: str, message: str) -> None:
-        super().__init__(message)
-        self.kind = kind
 
 
 @dataclass(frozen=True, slots=True)
@@ -189,6 +186,8 @@ class TuioClient:
         self.names: dict[str, tuple[str, str]] = {}  # UDP address -> (sender key, source name)
 
     def sender(self, key: str, name: str = "") -> Sender:
+        """The sender of ``key``, made when new (the one heard longest ago forgotten past
+        ``max_senders``)."""
         s = self.senders.get(key)
         if s is None:
             if len(self.senders) >= self.max_senders:
@@ -199,6 +198,8 @@ class TuioClient:
 
     def apply(self, messages: Iterable[tuple[str, tuple[Any, ...]]], address: str, t: float
               ) -> tuple[int, list[TuioError], int]:
+        """Apply one packet's ``messages`` from UDP ``address`` received at ``t`` (monotonic s):
+        (frames committed, what was wrong in it, frames that came late)."""
         # the name this UDP address last sent (the reference clients keep a source until
         # the next one), else the address itself
         key, name = self.names.get(address, (address, address))

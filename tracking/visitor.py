@@ -34,8 +34,8 @@ _FORGET_AT = 64     # stale entries dropped at once (dropping from a list's fron
 
 
 def forget(entries: list, starts: list[float], t: float) -> bool:
-    """Drop the entries (and their start times) that ended over :data:`HISTORY_S` before
-    ``t``, once there are enough of them; True when some were dropped."""
+    """Drop the entries (and their start times, s) that ended over :data:`HISTORY_S` before
+    ``t`` (s), once there are enough of them; True when some were dropped."""
     stale = bisect.bisect_right(starts, t - HISTORY_S) - 2   # keep the one holding t - HISTORY_S
     if stale < _FORGET_AT:
         return False
@@ -61,6 +61,7 @@ class Segment:
     moving: bool
 
     def pose(self, t: float) -> tuple[float, float, float]:
+        """(x m, y m, heading rad) at ``t`` (s) within this segment."""
         tau = (t - self.t0) / max(self.t1 - self.t0, 1e-9)
         if not self.moving:
             a = self.a0 + wrap_angle(self.a1 - self.a0) * smoothstep(tau)

@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from behaviors.motion.clips import quat_slerp
-from behaviors.touch_pose.action import ActionClock, ActionModel, recognise
+from behaviors.touch_pose.action import ActionClock, ActionModel, Match, recognise
 from behaviors.touch_pose.fingers import Finger
 from behaviors.touch_pose.humanoid import PARTS, Camera, Pose, yaw_of
 from behaviors.touch_pose.latent import Blend, yaw_view
@@ -108,7 +108,7 @@ class ActionControl:
                 return float(np.ptp(recent, axis=0).max()) * self.scale <= REST_SPAN
         return False
 
-    def _recognise(self, view: np.ndarray):
+    def _recognise(self, view: np.ndarray) -> Match | None:
         excluded = self.excluded()
         primary = {a.spec.part for a in self.m.actions if a.name not in excluded}
         for f in self.fingers.values():

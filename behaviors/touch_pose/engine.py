@@ -187,7 +187,7 @@ class TouchPose(ActionControl):
                    if abs(xy[0]) <= MAX_POSITION_M and abs(xy[1]) <= MAX_POSITION_M}
         self._fingers(t, touches)
         if self.mode == "posing":
-            self._posing(t, dt)
+            self._posing(dt)
         if self.mode == "action":
             self._action(dt)
         self.target = self._on_table(self.target)
@@ -336,7 +336,7 @@ class TouchPose(ActionControl):
                     goals[foot] = prev[PARTS.index(foot)]
         return self.ccd.solve(pose, goals) if goals else pose
 
-    def _posing(self, t: float, dt: float) -> None:
+    def _posing(self, dt: float) -> None:
         names, targets = self._constraints()
         if not names:  # the posture stays (where the ended action left it, at the base)
             if self.handover is not None:

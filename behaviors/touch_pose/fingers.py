@@ -29,7 +29,8 @@ class Finger:
         return self._p[: self._n]
 
     def add(self, t: float, screen: np.ndarray) -> None:
-        """Append a path point (the buffers double when full)."""
+        """Append a path point: ``screen`` (character metres) at ``t`` (s); the buffers double
+        when full."""
         if self._n == len(self._t):
             self._t = np.concatenate([self._t, np.empty_like(self._t)])
             self._p = np.concatenate([self._p, np.empty_like(self._p)])

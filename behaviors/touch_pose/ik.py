@@ -25,7 +25,7 @@ posing (bounded to 0.15 m and 30 degrees) still blends postures asked for in pla
 from __future__ import annotations
 
 import math
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -48,7 +48,8 @@ def limit_goal(current: np.ndarray, goal: np.ndarray, limit: float = MAX_CORRECT
     return goal if n <= limit else current + d * (limit / n)
 
 
-def _qaxis(axis, angle):
+def _qaxis(axis: Sequence[float], angle: float) -> tuple[float, float, float, float]:
+    """The unit quaternion (w, x, y, z) turning ``angle`` radians about the unit ``axis``."""
     s = math.sin(angle / 2)
     return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
 
@@ -79,7 +80,6 @@ class CCD:
                           for p, o in body.part_offset.items()}
         # plain-Python copies of what the inner loop reads (numpy scalar indexing costs ~0.1 us
         # a time, several hundred times a frame)
-        self._parent = [int(p) for p in body.parent]
         self._hinge = [bool(h) for h in body.hinge]
         self._limit = [float(v) for v in body.limit]
         self._cos_half = [math.cos(v / 2) for v in self._limit]

@@ -99,7 +99,8 @@ class PhysicalEffect:
         self._target: Pose | None = None
 
     def update(self, sim: Pose, target: Pose, dt: float) -> None:
-        """Accumulate one step (equation 6) from the simulated and target poses."""
+        """Accumulate one step of ``dt`` seconds (equation 6) from the simulated and target
+        poses."""
         if self._sim is not None and self._target is not None:
             f = dt / FRAME
             s1 = min(S1 * f, 1.0)

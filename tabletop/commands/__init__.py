@@ -23,6 +23,19 @@ def positive_number(text: str, option: str, unit: str,
     return value
 
 
+def number_pair(text: str, option: str, what: str,
+                error: type[InputError] = InputError) -> tuple[float, float]:
+    """``A,B`` of command-line ``option`` as two floats (inf and nan pass: the caller checks the
+    range); anything else raises ``error``: "OPTION 'TEXT' must be WHAT"."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        return float(parts[0]), float(parts[1])
+    except ValueError:
+        raise error(f"{option} {text!r} must be {what}") from None
+
+
 def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: float,
                     error: type[InputError] = InputError, integer: bool = False) -> float:
     """``text`` of command-line ``option`` as a finite number of ``unit`` in [lo, hi] (a whole
@@ -90,8 +103,8 @@ def folder_takes_files(folder: Path, option: str, shown: str | Path,
                     f"{folder_failure(folder, exc)}") from None
 
 
-def png_output(path, option: str, error: type[InputError] = InputError, inputs=(),
-               example: str = "out.png"):
+def png_output(path: str | Path, option: str, error: type[InputError] = InputError,
+               inputs: Iterable[str | Path | None] = (), example: str = "out.png") -> Path:
     """:func:`output_file` for an image written as PNG: a name not ending in .png (``x.jpg``
     would hold PNG bytes under a JPEG name) is refused, suggesting the .png one."""
     p = output_file(path, option, error, inputs=inputs, example=example)

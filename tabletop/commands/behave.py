@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tabletop.commands import (number_in_range, output_file, sparse_hint,
+from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
                                warn_sparse_times)
 from tabletop.frames import InputError
 
@@ -80,13 +80,7 @@ def parse_rate(text: str) -> float:
 
 def parse_table(text: str) -> tuple[float, float, float, float]:
     """``W,H`` in metres -> (0, 0, W, H)."""
-    parts = text.split(",")
-    try:
-        if len(parts) != 2:
-            raise ValueError
-        w, h = float(parts[0]), float(parts[1])
-    except ValueError:
-        raise BehaveArgumentError(f"--table {text!r} must be W,H in metres, e.g. 1.6,1.0") from None
+    w, h = number_pair(text, "--table", "W,H in metres, e.g. 1.6,1.0", BehaveArgumentError)
     check_table(f"--table {text!r}", w, h)
     return 0.0, 0.0, w, h
 

@@ -14,9 +14,15 @@ from __future__ import annotations
 import argparse
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING, Sequence
 
 from tabletop.commands import number_in_range, output_file
 from tabletop.frames import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from behaviors.mop.follower import ActionFollower
 
 HELP = "follow a performance along action templates (MOP): progress, recognition, validity per row"
 
@@ -65,7 +71,8 @@ def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
     return out
 
 
-def _features(path: Path, header: list[str], data, what: str, lines=None):
+def _features(path: str | Path, header: list[str], data: np.ndarray, what: str,
+              lines: Sequence[int] | None = None) -> tuple[list[str], np.ndarray]:
     """(feature names, their columns) of a template or performance CSV; a value beyond
     ``frames.MAX_FEATURE`` is refused naming its line (``lines``) or data row."""
     from tabletop.files import check_positions
@@ -123,7 +130,8 @@ def warn_templates(templates: dict, paths: dict) -> None:
                   "while it is performed", file=sys.stderr)
 
 
-def warn_alike(templates: dict, paths: dict, follower) -> None:
+def warn_alike(templates: dict[str, np.ndarray], paths: dict[str, Path],
+               follower: ActionFollower) -> None:
     """One stderr line per pair of different templates whose paths lie within the path
     misfit's acceptance of each other (:mod:`behaviors.mop.alike`): the same gesture recorded
     twice, which was followed without a word, each taking part of the probability."""

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tabletop.commands import (number_in_range, output_file, sparse_hint,
+from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
                                warn_sparse_times)
 from tabletop.frames import InputError
 
@@ -57,13 +57,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def parse_pair(text: str, option: str, what: str) -> tuple[float, float]:
     """``A,B`` as two finite numbers, else one clear error naming the option."""
-    parts = text.split(",")
-    try:
-        if len(parts) != 2:
-            raise ValueError
-        a, b = float(parts[0]), float(parts[1])
-    except ValueError:
-        raise PoseArgumentError(f"{option} {text!r} must be {what}") from None
+    a, b = number_pair(text, option, what, PoseArgumentError)
     if not (math.isfinite(a) and math.isfinite(b)):
         raise PoseArgumentError(f"{option} {text!r} must be {what} (finite numbers)")
     return a, b

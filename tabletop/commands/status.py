@@ -84,8 +84,8 @@ def shortened(value: object) -> str:
 
 def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealthy: int,
                      status: str) -> str:
-    """One line, in columns: name, sender, uptime, fps, unhealthy sources, mode and any
-    problem (what the sender wrote is put on one line field by field, the columns kept)."""
+    """One line, in columns: name, sender, uptime (s), fps (frames/s), unhealthy sources, mode
+    and any problem (what the sender wrote is put on one line field by field, the columns kept)."""
     st = status_object(status) or {}
     mode = shortened(st.get("mode", "?"))
     extra = ""
@@ -162,7 +162,7 @@ def main(args: argparse.Namespace) -> int:
 
     came, shown = [], []
 
-    def on_heartbeat(client, address, *values) -> None:
+    def on_heartbeat(client: tuple[Any, ...], address: str, *values: Any) -> None:
         came.append(True)
         wrong = check_heartbeat(values)
         st = status_object(values[4]) if not wrong and args.json else None

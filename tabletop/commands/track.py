@@ -17,11 +17,14 @@ import re
 import sys
 import time
 from pathlib import Path
-from typing import Any, Iterator
+from typing import TYPE_CHECKING, Any, Iterator
 
 from tabletop.commands import number_in_range, output_file
 from tabletop.files import atomic_writer
-from tabletop.frames import InputError
+from tabletop.frames import InputError, Puck
+
+if TYPE_CHECKING:
+    import numpy as np
 
 HELP = ("detect and track marker pucks in every frame of a video file, an image folder or a "
         "camera, writing one JSON line of puck poses per frame")
@@ -139,7 +142,9 @@ class FrameReader:
         else:
             raise TrackInputError(f"{spec}: no such file, folder or camera index")
 
-    def frames(self) -> Iterator[Any]:
+    def frames(self) -> Iterator[np.ndarray]:
+        """Every frame of the input in order, grey; TrackInputError for an unreadable image, a
+        video without frames or one cut short before its declared frame count."""
         cv2 = self.cv2
         if self.files is not None:
             for p in self.files:
@@ -204,6 +209,7 @@ class Progress:
         self._open = False      # the bar's line is on screen, not ended yet
 
     def update(self, done: int, force: bool = False) -> None:
+        """Show ``done`` frames of the total (at most every 0.2 s unless ``force``)."""
         if not self.enabled:
             return
         now = time.monotonic()
@@ -245,7 +251,10 @@ def _tracking_options(args: argparse.Namespace) -> dict[str, Any]:
         raise
 
 
-def _puck_json(p, smooth: bool) -> dict[str, Any]:
+def _puck_json(p: Puck, smooth: bool) -> dict[str, Any]:
+    """A puck's output record: x, y and angle as the puck carries them (table metres and
+    radians, or image pixels and image radians without a calibration); a ``seen`` puck's
+    measured pose unless ``smooth``."""
     if p.state == "seen" and not smooth:
         x, y, a = p.raw_x, p.raw_y, p.raw_angle
     else:

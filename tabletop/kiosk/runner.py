@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
-from tabletop.app import build_live
+from tabletop.app import Installation, build_live
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
@@ -146,7 +146,7 @@ class Runner:
             self._notes.append(note)
             t.run_only = []
 
-    def _build(self, cfg: dict[str, Any]):
+    def _build(self, cfg: dict[str, Any]) -> Installation:
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
         prepared, self.prepared = self.prepared, None
         self._studio_of(cfg)
@@ -246,7 +246,8 @@ class Runner:
         self.inst = self.studio = self.reporter = None
         gc.collect()
 
-    def _attract(self, inst, cfg: dict[str, Any]):
+    def _attract(self, inst: Installation,
+                 cfg: dict[str, Any]) -> Callable[[], dict[str, float]]:
         """Attract mode on the loop; returns its status provider (``idle_s``)."""
         loop, k = inst.loop, cfg["kiosk"]
         ctx = BuildContext(inst.context.table, inst.context.rate_hz, cfg, self.base)
@@ -258,7 +259,7 @@ class Runner:
         loop.filters.append(attract)
         return lambda: {"idle_s": round(attract.idle_for(loop.clock()), 1)}
 
-    def _health(self, inst, cfg: dict[str, Any], extra: list) -> None:
+    def _health(self, inst: Installation, cfg: dict[str, Any], extra: list) -> None:
         """Status file and heartbeat on the loop, closed with the sinks."""
         loop, k = inst.loop, cfg["kiosk"]
         hb = k["heartbeat"]
@@ -271,7 +272,7 @@ class Runner:
         loop.sinks.append(_Closer("health", self.reporter.close))
 
     @staticmethod
-    def _kiosk_view(inst, k: dict[str, Any]) -> None:
+    def _kiosk_view(inst: Installation, k: dict[str, Any]) -> None:
         from tabletop.kiosk import service_key_code
         key = service_key_code(k["service_key"])   # (a name it has not is refused at load)
         for s in inst.sinks:
@@ -386,10 +387,10 @@ def _relay(outer: threading.Event, inner: threading.Event, ran: threading.Event)
 class _Closer:
     """A sink that only closes something when the loop closes its sinks."""
 
-    def __init__(self, name: str, close) -> None:
+    def __init__(self, name: str, close: Callable[[], None]) -> None:
         self.name, self._close = name, close
 
-    def consume(self, frame) -> None:
+    def consume(self, frame: Frame) -> None:
         pass
 
     def close(self) -> None:

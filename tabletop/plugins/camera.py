@@ -178,7 +178,8 @@ def make_detector(ctx: BuildContext) -> Any:
 
 
 def stretch_calibration(width: int, height: int, table: tuple[float, float]) -> Calibration:
-    """A stand-in calibration that stretches the image over the table (no camera geometry)."""
+    """A stand-in calibration that stretches an image of ``width`` x ``height`` pixels over the
+    table (W, H metres; no camera geometry)."""
     from calibration.files import Calibration
     w, h = table
     H = np.array([[w / width, 0.0, 0.0], [0.0, -h / height, h], [0.0, 0.0, 1.0]])

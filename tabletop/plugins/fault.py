@@ -31,6 +31,9 @@ SCHEMA = Record({
 
 
 class FaultEngine:
+    """The engine of the module docstring: this start's faults, each from ``after_s`` seconds of
+    frame time after the first step (a ``raise`` on every step from then)."""
+
     def __init__(self, name: str, faults: list[dict]) -> None:
         self.name = name
         self.all_faults = faults

@@ -40,6 +40,7 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
@@ -57,6 +58,9 @@ from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Range, Record,
                              Str)
+
+if TYPE_CHECKING:
+    import numpy as np
 
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
 
@@ -186,7 +190,7 @@ def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> N
         if not (ctx.start_without and Path(motion).suffix in (".txt", ".json")):
             raise
         # a kiosk's start: a clip file deleted (or a folder now) is the build's to go without
-        how, found = "clip", action_files(c, {"template": "", "motion": motion}, ctx.base)[1]
+        how, found = "clip", action_files({"template": "", "motion": motion}, ctx.base)[1]
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
         if ctx.start_without:     # a kiosk's start: the build reads it (and may go without)
@@ -333,7 +337,9 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                   max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
-    def make_follower(templates, units=None, min_scale=None, window=None):
+    def make_follower(templates: Mapping[str, np.ndarray], units: np.ndarray | None = None,
+                      min_scale: np.ndarray | None = None,
+                      window: int | None = None) -> ActionFollower:
         # size, place and direction of motion only where the features' units are known (puck
         # and touch paths); a stream's columns are followed as recorded
         spatial = units is not None
@@ -401,7 +407,8 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         templates[c["name"]] = tmpl
         motions[c["name"]] = tuple(c["motions"]) or loader.available()
 
-    def save(character, action, samples, names, motion):
+    def save(character: str, action: str, samples: np.ndarray, names: Sequence[str],
+             motion: str) -> str:
         return save_to_library(library, character, action, samples, tuple(names), motion, rate)
 
     stage = MopStage(options["name"], rate, performers, puppets, templates, make_follower,

@@ -118,9 +118,8 @@ def resample(t: np.ndarray, x: np.ndarray, rate_hz: float) -> np.ndarray:
     return np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)
 
 
-def action_files(character: dict[str, Any], action: dict[str, Any], base: Path
-                 ) -> tuple[Path, ...]:
-    """The files a configured ``action`` of ``character`` reads: its template, then its motion
+def action_files(action: dict[str, Any], base: Path) -> tuple[Path, ...]:
+    """The files a configured ``action`` of a character reads: its template, then its motion
     where that is a clip file (``.txt``, ``.json``; relative to ``base``)."""
     files = [Path(action["template"])]
     m = Path(action["motion"]).expanduser()
@@ -155,10 +154,10 @@ def action_entries(character: dict[str, Any], base: Path,
     ones (:func:`configured_actions`'s third), which the character starts without, and all of
     them (the same entries for the bad ones)."""
     gone = {a["name"]: dict(character=character, action=a, why=why, read=read,
-                            files=action_files(character, a, base)) for a, why, read in bad}
+                            files=action_files(a, base)) for a, why, read in bad}
     every = [gone.get(a["name"]) or dict(character=character, action=a, why=None,
                                          read=signed.get(a["name"], ()),
-                                         files=action_files(character, a, base))
+                                         files=action_files(a, base))
              for a in character["actions"]]
     return list(gone.values()), every
 
@@ -184,7 +183,7 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
     from tabletop.kiosk.watch import tree_signature
     actions, tmpl, missing = [], {}, []
     for a in character["actions"]:
-        read = tuple(map(tree_signature, action_files(character, a, loader.base))) \
+        read = tuple(map(tree_signature, action_files(a, loader.base))) \
             if without or signed is not None else ()
         if signed is not None:
             signed[a["name"]] = read

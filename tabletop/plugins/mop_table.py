@@ -7,20 +7,26 @@ from __future__ import annotations
 import importlib.util
 import sys
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING, Callable, Iterable
 
 import numpy as np
 
 from tabletop.config import validate_config
-from tabletop.frames import Frame, Puck
+from tabletop.frames import CharacterState, Frame, Puck
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
+
+if TYPE_CHECKING:
+    from behaviors.mop.stage import MopStage
 
 ROOT = Path(__file__).resolve().parents[2]   # the project's folder
 EXAMPLES = ROOT / "examples"
 RATE = 60.0
 
 
-def _gestures():
+def _gestures() -> ModuleType:
+    """examples/make_mop_gestures.py, loaded as a module."""
     spec = importlib.util.spec_from_file_location("make_mop_gestures",
                                                   EXAMPLES / "make_mop_gestures.py")
     module = importlib.util.module_from_spec(spec)
@@ -32,7 +38,8 @@ def _gestures():
 G = _gestures()
 
 
-def build(data: dict, base: Path):
+def build(data: dict, base: Path) -> MopStage:
+    """The MOP engine of config ``data`` (its first engine), files relative to ``base``."""
     cfg = validate_config(data, str(base / "test.yaml"), base)
     ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=base)
     return mop.build(cfg["engines"][0], ctx)
@@ -41,13 +48,14 @@ def build(data: dict, base: Path):
 class Table:
     """Drives an engine with frames at 60 Hz on one clock."""
 
-    def __init__(self, engine):
+    def __init__(self, engine: MopStage) -> None:
         self.engine, self.t, self.seq = engine, 0.0, 0
         self.pucks: dict[int, tuple[float, float]] = {1: (0.3, 0.3), 2: (0.9, 0.5)}
         self.touches: tuple = ()
         self.streams: dict = {}
 
-    def tick(self, commands=(), focus=None):
+    def tick(self, commands: Iterable[str] = (),
+             focus: str | None = None) -> dict[str, CharacterState]:
         pucks = tuple(Puck(i, x, y, 0.0) for i, (x, y) in self.pucks.items())
         frame = Frame(self.seq, self.t, pucks=pucks, touches=self.touches,
                       streams=dict(self.streams), commands=tuple(commands), focus=focus)
@@ -56,12 +64,16 @@ class Table:
         self.seq += 1
         return out
 
-    def rest(self, seconds, puck=1):
+    def rest(self, seconds: float) -> list[dict[str, CharacterState]]:
+        """``seconds`` of ticks with the pucks still."""
         return [self.tick() for _ in range(int(seconds * RATE))]
 
-    def perform(self, name, puck=1, speed=lambda u: 1.0, noise=0.0, seed=0, upto=1.0):
-        """Move ``puck`` along gesture ``name`` from where it is; ``speed(u)`` is the playback
-        rate at gesture progress u. Returns [(true progress, characters)]."""
+    def perform(self, name: str, puck: int = 1, speed: Callable[[float], float] = lambda u: 1.0,
+                noise: float = 0.0, seed: int = 0, upto: float = 1.0
+                ) -> list[tuple[float, dict[str, CharacterState]]]:
+        """Move ``puck`` along gesture ``name`` from where it is, up to progress ``upto``;
+        ``speed(u)`` is the playback rate at gesture progress u, ``noise`` each position's
+        Gaussian noise (standard deviation, metres). Returns [(true progress, characters)]."""
         g = G.gesture(name)
         x0, y0 = self.pucks[puck]
         rng = np.random.default_rng(seed)

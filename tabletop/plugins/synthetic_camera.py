@@ -31,6 +31,7 @@ from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera, Synthe
 
 if TYPE_CHECKING:
     from calibration.files import Calibration
+    from tabletop.frames import Observation
 
 
 def _check(options: dict, path: str, ctx: Context) -> None:
@@ -117,12 +118,12 @@ class SyntheticCameraSource(CameraSource):
                 self.reader = SyntheticReader(camera, poses, hands, fps, clock)
             return self.reader
 
-        def process(image: np.ndarray, t: float, n: int):
+        def process(image: np.ndarray, t: float, n: int) -> Observation:
             obs = measurer(image, t, n)
             self._truth = (obs, self.reader.frame)
             return obs
 
-        def after_publish():
+        def after_publish() -> Observation | None:
             more = measurer.after_publish()
             if more is not None and self._truth is not None:
                 self._truth = (more, self._truth[1])

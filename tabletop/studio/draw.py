@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import pygame
 
@@ -12,6 +12,9 @@ from tabletop import library
 from tabletop.drawing import screens
 from tabletop.drawing.reading import PLAIN, Reading
 from tabletop.frames import CharacterState
+
+if TYPE_CHECKING:
+    import numpy as np
 
 # ``renderer`` below is the view's tabletop.renderer.Renderer, typed Any: that module imports
 # this one to draw the studio, and the project's imports stay free of cycles
@@ -69,7 +72,7 @@ def _words_at(reading: Reading, size: tuple[int, int], dot: int, x: float, y: fl
     return reading.at(size, reading.offset((x, y), dot + 8), (0.0, 0.5))
 
 
-def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
+def _mark_at(renderer: Any, img: pygame.Surface, dot: int,
              avoid: list[pygame.Rect]) -> tuple[float, float]:
     """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``, upright in window
     pixels) has its dot: at the table's far left corner as its reader sees it, or with its
@@ -127,7 +130,7 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
     elif c.action == "recording":
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
         img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
-        x, y = _mark_at(target, renderer, img, dot, avoid)
+        x, y = _mark_at(renderer, img, dot, avoid)
         marks.append(_mark(target, renderer, img, dot, x, y, c.color if on else (120, 30, 30)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
@@ -136,7 +139,7 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
         green = (90, 220, 120)
         img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                                    else "training...", True, green)
-        x, y = _mark_at(target, renderer, img, dot, avoid)
+        x, y = _mark_at(renderer, img, dot, avoid)
         marks.append(_mark(target, renderer, img, dot, x, y, green,
                            0 if c.action == "trying" else 3))
         if c.points is not None and len(c.points) >= 2:
@@ -166,8 +169,10 @@ def fit_lines(text: str, size: int, width: int) -> tuple[str, ...]:
     return tuple(screens.fit_lines(text, font(size), width))
 
 
-def _guide(target: pygame.Surface, renderer, points, color) -> None:
-    """A dotted path from its first point (a ring: put your finger here) to an arrowhead."""
+def _guide(target: pygame.Surface, renderer: Any, points: np.ndarray,
+           color: tuple[int, int, int]) -> None:
+    """A dotted path through ``points`` (N x 2, table metres) from its first point (a ring: put
+    your finger here) to an arrowhead."""
     px = [renderer.map.point(float(x), float(y)) for x, y in points]
     pygame.draw.circle(target, color, px[0], 12, width=2)
     for i, p in enumerate(px[1:-1]):

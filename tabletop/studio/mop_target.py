@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, ContextManager
 
 import numpy as np
 
@@ -329,7 +329,7 @@ class MopTarget(RunOnlyTakes):
         assert self.lib is not None
         write_library(self.lib, self.character, entries)
 
-    def _locked(self):
+    def _locked(self) -> ContextManager[None]:
         """The library's lock, held while its entries are read, changed and written (another
         run may be keeping into it). InputError without a library."""
         from tabletop.plugins.mop_files import library_lock

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from behaviors.touch_pose import designed
-from behaviors.touch_pose.humanoid import PARTS, Pose
+from behaviors.touch_pose.humanoid import PARTS, Humanoid, Pose
 from behaviors.touch_pose.samples import relative
 from tabletop import library
 from tabletop.frames import Frame, InputError
@@ -29,10 +29,12 @@ from tabletop.studio.folders import named_folder, rename_folder, trash
 from behaviors.worker import Worker, close_workers
 
 if TYPE_CHECKING:
+    from behaviors.touch_pose.action import ActionModel
     from tabletop.plugins.touch_pose import TouchPoseEngine
 
 
-def _learn(body, name: str, times: np.ndarray, poses: list[Pose], part: str | None) -> tuple:
+def _learn(body: Humanoid, name: str, times: np.ndarray, poses: list[Pose],
+           part: str | None) -> tuple[ActionModel, np.ndarray]:
     """(the take's action, its demonstration for the session log: t and its primary part's
     path, character metres); pure, so it may run in the worker."""
     action = designed.designed_action(body, name, times, poses, part)
@@ -220,7 +222,7 @@ class TouchPoseTarget:
             self._seen()
         return a.name
 
-    def _rename_action(self, action, new: str) -> None:
+    def _rename_action(self, action: ActionModel, new: str) -> None:
         """The character knows ``action`` as ``new`` from now."""
         self.core.remove_action(action.name)
         action.spec = dataclasses.replace(action.spec, name=new)

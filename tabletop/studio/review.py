@@ -12,12 +12,18 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tabletop.file_io import MAX_TEXT_BYTES
 from tabletop.files import atomic_writer, json_loads
 from tabletop.frames import InputError
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from PIL import Image
 
 
 def load_plotting() -> None:
@@ -44,7 +50,7 @@ PANEL_ASPECT = 0.9    # a review panel's height over its width
 SHEET_PANELS = 2      # a try's review sheet: its panels side by side
 
 
-def _figure(cols: int, rows: int = 1, size: float = 4.0):
+def _figure(cols: int, rows: int = 1, size: float = 4.0) -> tuple[Figure, list[Axes]]:
     """A figure of ``cols`` x ``rows`` panels, each ``size`` inches wide (80 dpi)."""
     load_plotting()
     from matplotlib.figure import Figure
@@ -53,7 +59,7 @@ def _figure(cols: int, rows: int = 1, size: float = 4.0):
     return fig, [fig.add_subplot(rows, cols, i + 1) for i in range(cols * rows)]
 
 
-def _save(fig, path: Path) -> None:
+def _save(fig: Figure, path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_writer(path, binary=True) as f:
         fig.savefig(f, format="png")
@@ -371,7 +377,7 @@ def _text_px(text: str, points: float) -> float:
     return (text.count("\n") + 1) * points * 1.2 * DPI / 72
 
 
-def _sheet_image(session: Path, t: dict):
+def _sheet_image(session: Path, t: dict) -> Image.Image | None:
     """The try's review sheet as an RGB Pillow image on white, None without a readable one."""
     if not t.get("review"):
         return None

@@ -153,6 +153,10 @@ def left_at_quit(folder: Path) -> tuple[Path, str, Path | None] | None:
 
 
 class SessionLog:
+    """A studio session's log, ``session-STAMP.jsonl`` in ``folder``: one line per try and per
+    library change, each try's review sheet (PNG) drawn beside it off the loop when
+    ``review``."""
+
     def __init__(self, folder: Path, review: bool = True) -> None:
         self.folder = Path(folder)
         self.failing = ""           # why the last line could not be written ("" when it was)
@@ -165,6 +169,8 @@ class SessionLog:
             self._drawn = _warm_once()
 
     def log_try(self, t: Try, target: Target) -> None:
+        """Append try ``t`` of ``target``, its review sheet started when it has a demonstration
+        and no sheet is being drawn."""
         if t.outcome in ITEM_LINES:     # a line of its own: no samples, no sheet
             self._append(t)
             return
@@ -250,6 +256,6 @@ class SessionLog:
         self.wait(timeout)
 
     def wait(self, timeout: float = 30.0) -> None:
-        """Wait for the review sheet being drawn (tests, shutdown)."""
+        """Wait up to ``timeout`` seconds for the review sheet being drawn (tests, shutdown)."""
         if self._drawn is not None:
             self._drawn.wait(timeout)

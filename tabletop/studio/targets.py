@@ -32,6 +32,7 @@ from tabletop.studio.pm_shelf import BehaviorShelf
 from tabletop.studio.pm_take import Unseen, motionless
 
 if TYPE_CHECKING:
+    from behaviors.puppet_master.engine import Behavior, Reactor
     from tabletop.plugins.puppet_master import PuppetMasterEngine
 
 log = logging.getLogger("tabletop")
@@ -283,7 +284,7 @@ class PuppetMasterTarget(BehaviorShelf):
         self._play(behavior, reactor, demo)
         return self._summary()
 
-    def _play(self, behavior, reactor, demo: np.ndarray) -> None:
+    def _play(self, behavior: Behavior, reactor: Reactor | None, demo: np.ndarray) -> None:
         e = self.engine
         self.pending, self.demo = behavior, demo
         self.previous = (e.behavior, e.behavior_name)
