@@ -196,10 +196,13 @@ def test_a_live_build_refuses_an_unwritable_recording_folder_unless_told_to_run_
     with pytest.raises(ConfigError, match=r"recorder\.folder: .*cannot start a recording there"):
         build_live(cfg)
     inst = build_live(cfg, strict=False)
-    try:
-        assert inst.recorder.failed is not None
-    finally:
-        inst.loop.close()
+    sink = Collect()
+    inst.loop.sinks.insert(0, sink)
+    ran = inst.loop.run(max_ticks=5)                                         # runs on,
+    assert "blocked" in (inst.recorder.failed or ""), inst.recorder.failed   # says where
+    assert ran == 5
+    assert len(sink.frames) == 5 and sink.frames[-1].pucks
+    assert list(tmp_path.iterdir()) == [tmp_path / "blocked"]               # nothing written
 
 
 def test_two_recorders_started_at_once_never_collide(tmp_path):
