@@ -197,7 +197,7 @@ def test_the_crash_log_rotates_as_the_kiosk_log_does(tmp_path):
 def test_the_supervisor_keeps_its_last_events_not_every_one(tmp_path, monkeypatch):
     """A table crashing again and again for weeks: the supervisor's record of starts, crashes
     and stalls keeps the last ``EVENTS_KEPT`` (it grew by one per event)."""
-    monkeypatch.setattr(Supervisor, "EVENTS_KEPT", 3, raising=False)
+    monkeypatch.setattr(Supervisor, "EVENTS_KEPT", 3)
     sup = Supervisor([sys.executable, "-c", "import sys; sys.exit(1)"],
                      Policy(backoff_s=(0.001, 0.001)), tmp_path / "crashes.log", echo=False,
                      spares=0)

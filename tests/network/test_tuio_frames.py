@@ -211,7 +211,9 @@ def test_a_lost_fseq_is_counted_once_and_its_sets_go_with_its_frame(source, capl
     assert [p.id for p in source.latest().pucks] == [4]
     # (counted by the receiving thread just after the packet is applied)
     assert wait_for(lambda: source.bad.counts().get("no_fseq") == 1, 5.0), source.bad.counts()
-    time.sleep(0.2)
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1),     # a good frame after them: once it
+                    message("/tuio/2Dobj", "fseq", 3)))     # is applied, theirs were counted
+    assert sent(source, 3)
     assert source.bad.counts() == {"no_fseq": 1}
     assert not any("alive does not list" in r.getMessage() for r in caplog.records)
 

@@ -1,8 +1,6 @@
 """The designer studio as a designer drives it by keys: the status line speaks of the state and
 target on screen, and the library keys stay sound after the item in play is deleted."""
 
-import time
-
 from behaviors.puppet_master import designers
 from tabletop import library
 from tabletop.frames import Frame, Puck
@@ -69,7 +67,7 @@ def test_deleting_the_behaviour_in_play_leaves_nothing_to_delete_rename_or_repor
     e, s, lib = playing_a(tmp_path)
     s.command("designer.delete")
     assert library.list_behaviors(lib) == [] and "deleted a" in s.message
-    time.sleep(1.1)                               # the library watchers look once a second
+    s.targets["pet"].lib_poller.every_s = 0.0     # looks at every poll (the loop: once a second)
     s.poll()
     assert s.problems == []                       # a deletion is no bad file
     assert "deleted" in e.behavior_name           # it plays on from memory, said so
@@ -97,9 +95,9 @@ def test_a_bad_library_file_is_counted_once_however_often_the_library_changes(tm
     s = Bench([e], tmp_path).studio
     (lib / "bad").mkdir()
     (lib / "bad" / "behavior.yaml").write_text("{{{")
+    s.targets["pet"].lib_poller.every_s = 0.0    # looks at every poll (the loop: once a second)
     counts = []
     for i in range(3):
-        time.sleep(1.1)
         s.poll()
         counts.append(len(s.problems))
         (lib / f"new{i}").mkdir()

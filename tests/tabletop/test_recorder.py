@@ -72,16 +72,31 @@ def test_record_then_replay_gives_the_same_frames(tmp_path):
 
 
 def test_replay_honours_recorded_times(tmp_path):
+    """Each frame is played no earlier than its recorded time after the first, and lateness
+    does not pile up: in the second half some frame is on time within a quarter of the span
+    (measured: the best 0.1 ms late, the worst 8 ms, at load 15-20; a replay that waits each
+    recorded offset again from the previous frame: 3.8 s late; one played 17 ms early fails
+    the first check). Judged on the best frame, not on each, so a loaded machine's late ticks
+    do not fail it (no wall-clock bound on the run)."""
     import time
+
+    class Stamp(Collect):
+        def consume(self, frame) -> None:
+            self.frames.append((frame.t, time.monotonic()))
 
     path = record(tmp_path, seconds=1.0)
     cfg = validate_config(read_header(path)["config"], "recorded", tmp_path)
     inst = build_replay(cfg, read_frames(path), fast=False, view=False)
-    t0 = time.monotonic()
+    stamp = Stamp()
+    inst.loop.sinks.append(stamp)
+    before = time.monotonic()    # no later than the replay's clock starts (its first frame)
     inst.loop.run()
-    elapsed = time.monotonic() - t0
-    span = list(read_frames(path))[-1].t
-    assert elapsed == pytest.approx(span, abs=0.15)
+    (t0, wall0), span = stamp.frames[0], stamp.frames[-1][0] - stamp.frames[0][0]
+    ahead = [(t - t0) - (wall - before) for t, wall in stamp.frames]
+    assert len(ahead) == len(list(read_frames(path))) and span >= 0.9
+    assert max(ahead) <= 0.0, max(ahead)                      # never ahead of the recording
+    late = [(wall - wall0) - (t - t0) for t, wall in stamp.frames]
+    assert min(late[len(late) // 2:]) < 0.25 * span, late     # and no lateness piling up
 
 
 def test_cut_short_last_line_is_skipped(tmp_path):
@@ -181,10 +196,13 @@ def test_a_live_build_refuses_an_unwritable_recording_folder_unless_told_to_run_
     with pytest.raises(ConfigError, match=r"recorder\.folder: .*cannot start a recording there"):
         build_live(cfg)
     inst = build_live(cfg, strict=False)
-    try:
-        assert inst.recorder.failed is not None
-    finally:
-        inst.loop.close()
+    sink = Collect()
+    inst.loop.sinks.insert(0, sink)
+    ran = inst.loop.run(max_ticks=5)                                         # runs on,
+    assert "blocked" in (inst.recorder.failed or ""), inst.recorder.failed   # says where
+    assert ran == 5
+    assert len(sink.frames) == 5 and sink.frames[-1].pucks
+    assert list(tmp_path.iterdir()) == [tmp_path / "blocked"]               # nothing written
 
 
 def test_two_recorders_started_at_once_never_collide(tmp_path):

@@ -67,13 +67,28 @@ def test_a_part_held_while_an_action_travels_stays_under_its_finger(make, models
     assert float(np.median(after)) < AFTER_MEDIAN_M, after
 
 
-@pytest.mark.parametrize("view", [(90.0, 15.0), (60.0, 30.0), (90.0, 40.0)])
-@pytest.mark.parametrize("action, part", [("walk", "right_hand"), ("punch", "left_hand"),
-                                          ("kick", "left_hand")])
+def _handovers() -> list:
+    """(action, held part, view) for the handover test. Two do not start their action (none is
+    excluded by the 45-degree rule from these views; measured): from 60,30 the punch's drag
+    with the left hand held starts nothing (alone, or with the right foot or the head held, it
+    starts the punch); from 90,40 the punch's drag starts the wave, held or not. Kept as strict
+    expected failures: the test says so the day they start."""
+    out = []
+    for view in [(90.0, 15.0), (60.0, 30.0), (90.0, 40.0)]:
+        for action, part in [("walk", "right_hand"), ("punch", "left_hand"),
+                             ("kick", "left_hand")]:
+            why = {(60.0, 30.0): "a held left hand keeps the punch's drag from starting it",
+                   (90.0, 40.0): "the punch's drag starts the wave from this view"}.get(view)
+            marks = (pytest.mark.xfail(strict=True, reason=why)
+                     if action == "punch" and why else ())
+            out.append(pytest.param(action, part, view, marks=marks))
+    return out
+
+
+@pytest.mark.parametrize("action, part, view", _handovers())
 def test_a_held_part_moves_on_continuously_when_the_action_ends(make, models, action, part, view):
     e = make(view=view, physics=False)
     far, after, modes, steps = _hold_while_acting(e, models, action, part, seconds=2.5)
-    if action not in modes:
-        pytest.skip(f"{action} is excluded from view {view}")
+    assert action in modes and action not in e.excluded(), (modes, e.excluded())
     assert len(after) >= 8
     assert max(steps[-18:]) < HANDOVER_STEP_M, steps[-18:]

@@ -15,7 +15,7 @@ from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
 FPS = 30.0
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture
 def cam():
     return SyntheticCamera(CameraSettings(resolution=(1280, 720), blur_sigma=0.8,
                                           noise_sigma=3.0, seed=11))
