@@ -202,3 +202,24 @@ def test_a_time_given_in_milliseconds_is_refused_saying_seconds(shipped, where, 
     assert msg.endswith(f"got {float(value)} (out of range; milliseconds given?)"), msg
     assert "\n" not in msg
     assert "milliseconds" not in _set(shipped, where, -1.0)   # too small: no such question
+
+
+def test_a_config_over_a_megabyte_is_refused_before_it_is_parsed(tmp_path):
+    """A wrong file of tens of MB given as the config parsed for tens of seconds before its
+    error (5 MB: 2.7 s of CPU). Over 1 MB (the largest shipped config is 4.9 kB) it is refused
+    unread: the syntax error at its end is never reached."""
+    import os
+    import threading
+    big = GOOD + "# a long comment\n" * 70_000 + "view: [unclosed\n"   # 1.2 MB
+    msg = error_of(tmp_path, big)
+    assert msg == (f"{tmp_path / 'config.yaml'}: {len(big):,} bytes, more than a config holds "
+                   "(at most 1,048,576); not read (another file given?)"), msg
+    assert "syntax" in error_of(tmp_path, big[-100_000:])   # shorter: parsed, said
+    pipe = tmp_path / "pipe.yaml"
+    os.mkfifo(pipe)
+    writer = threading.Thread(target=pipe.write_text, args=(big,))
+    writer.start()
+    with pytest.raises(ConfigError) as info:
+        load_config(pipe)
+    writer.join()
+    assert f"{len(big):,} bytes, more than a config holds" in str(info.value)
