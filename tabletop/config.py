@@ -202,12 +202,16 @@ class Config(dict):
         self.raw, self.base, self.file, self.refs = raw, base, file, refs
 
 
+MAX_CONFIG_BYTES = 2**20   # the largest shipped config (examples/mop.yaml) is 4.9 kB
+
+
 def load_config(path: str | Path, start_without: bool = False) -> Config:
     """Read and validate a config file; returns the config with every default filled in.
     ``start_without``: the files of engines' actions are read by the build, not here
     (:class:`~tabletop.schema.Context`)."""
     p = Path(path)
-    data = read_yaml(p, ConfigError, missing="config file not found")
+    data = read_yaml(p, ConfigError, missing="config file not found", max_bytes=MAX_CONFIG_BYTES,
+                     kind="config")
     _no_library_file(data, p)
     return validate_config(data, str(p), p.resolve().parent, start_without)
 

@@ -211,12 +211,20 @@ def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormat
 
 
 def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
-              missing: str = "not found", problem: str = "YAML syntax error") -> Any:
+              missing: str = "not found", problem: str = "YAML syntax error",
+              max_bytes: int | None = None, kind: str = "YAML file") -> Any:
     """Read and parse a YAML file; a missing, unreadable or malformed file raises ``error``
-    (``missing`` is the message for a file that does not exist)."""
+    (``missing`` is the message for a file that does not exist), and so does one over
+    ``max_bytes`` (a ``kind`` of file never that long), before it is parsed: YAML parses
+    about 2 MB a second, so a wrong file of 50 MB took half a minute to be refused."""
     p = Path(path)
     try:
+        size = p.stat().st_size if max_bytes is not None and p.is_file() else 0
+        if max_bytes is not None and size > max_bytes:
+            raise error(_too_big(p, size, max_bytes, kind))
         text = read_text(p)
+        if max_bytes is not None and len(text) > max_bytes:   # a pipe or a device: its text
+            raise error(_too_big(p, len(text), max_bytes, kind))
     except FileNotFoundError:
         raise error(f"{p}: {missing}") from None
     except IsADirectoryError:
@@ -224,3 +232,8 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
     except (OSError, UnreadableText) as exc:
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)
+
+
+def _too_big(p: Path, size: int, max_bytes: int, kind: str) -> str:
+    return (f"{p}: {size:,} bytes, more than a {kind} holds (at most {max_bytes:,}); not read "
+            "(another file given?)")

@@ -108,14 +108,17 @@ YAML_TEXT_NUMBER = re.compile(r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+")
 
 
 class Number(Spec):
-    """An int or float (``integer=True``: int only) within [lo, hi]."""
+    """An int or float (``integer=True``: int only) within [lo, hi]; ``unit`` ("seconds") is
+    said in its refusals, and a time over ``hi`` seconds is asked about as milliseconds."""
 
     def __init__(self, default: Any = REQUIRED, lo: float | None = None, hi: float | None = None,
-                 integer: bool = False, doc: str = "") -> None:
+                 integer: bool = False, doc: str = "", unit: str = "") -> None:
         self.default, self.lo, self.hi, self.integer, self.doc = default, lo, hi, integer, doc
+        self.unit = unit
 
     def describe(self) -> str:
         kind = "an integer" if self.integer else "a number"
+        kind += f" of {self.unit}" if self.unit else ""
         if self.lo is not None and self.hi is not None:
             return f"{kind} in [{self.lo}, {self.hi}]"
         if self.lo is not None:
@@ -137,7 +140,10 @@ class Number(Spec):
         if isinstance(value, float) and not math.isfinite(value):  # NaN, inf
             raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}")
         if (self.lo is not None and value < self.lo) or (self.hi is not None and value > self.hi):
-            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)} (out of range)")
+            ms = self.unit == "seconds" and self.hi is not None and value > self.hi
+            why = "; milliseconds given?" if ms else ""
+            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)} "
+                                  f"(out of range{why})")
         return value
 
 

@@ -187,6 +187,7 @@ def main(args: argparse.Namespace) -> int:
 
     gaps = LogGaps()              # refused packets: when to say them,
     unsaid: dict[str, int] = {}   # and how many were not said, by sender and kind
+    forgotten = 0                 # unsaid counts of kinds dropped from ``unsaid`` (bounded)
 
     def handle_error(_request: Any, client: Any) -> None:
         """In place of socketserver's own, which prints a handler's exception with its
@@ -207,10 +208,11 @@ def main(args: argparse.Namespace) -> int:
         ``what`` (numbers aside), after 10 s, 20 s, ... (LogGaps) with the count left unsaid: a
         program sending no OSC to the port at 60 Hz filled the terminal with 60 lines a second,
         and so did one sending heartbeats of another form (300 lines in 1.5 s)."""
-        nonlocal gaps
+        nonlocal gaps, forgotten
         key = f"{client[0]} {re.sub(r'[0-9]+', 'N', what)}"
         if key not in unsaid and len(unsaid) >= 1024:   # (from the network: bounded)
             gaps = LogGaps()
+            forgotten += sum(unsaid.values())
             unsaid.clear()
         if not gaps.due(key, time.monotonic()):
             unsaid[key] = unsaid.get(key, 0) + 1
@@ -235,6 +237,10 @@ def main(args: argparse.Namespace) -> int:
         if timer is not None:
             timer.cancel()
         server.server_close()
+    held = forgotten + sum(unsaid.values())
+    if held:   # what was held back since each kind's last line: its count, not a silence
+        print(f"tabletop status: {held} more like the lines above not said (the same fault "
+              "from the same sender is said once, then after 10 s, 20 s, ...)", file=sys.stderr)
     if not came:   # silence alone does not tell a quiet gallery from a wrong address
         print(f"tabletop status: no heartbeat came to {shown_host_port(host, port)} in "
               f"{waited(time.monotonic() - start)} s (a table in kiosk mode sends one every "

@@ -144,7 +144,8 @@ def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
 SCHEMA = Record({
     "enabled": Bool(False, doc="run as a gallery kiosk (same as run --kiosk)"),
     "name": Str("", doc="installation name in the status and heartbeat (default: host name)"),
-    "idle_s": Number(60.0, lo=1.0, doc="attract mode after this long with no visitor, seconds"),
+    "idle_s": Number(60.0, lo=1.0, hi=3600.0, unit="seconds",
+                     doc="attract mode after this long with no visitor, seconds"),
     "handover_s": Number(1.0, lo=0.0, hi=30.0,
                          doc="seconds over which attract pucks glide to a visitor's pucks"),
     "attract": Record(dict(scripted.SCHEMA.fields), check=scripted.check_pucks,

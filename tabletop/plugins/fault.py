@@ -24,7 +24,8 @@ from tabletop.schema import ListOf, Number, Record, Str
 SCHEMA = Record({
     "faults": ListOf(Record({
         "start": Number(0, integer=True, lo=0, doc="which start of the supervised process"),
-        "after_s": Number(1.0, lo=0.0, doc="seconds after the engine's first step"),
+        "after_s": Number(1.0, lo=0.0, hi=3600.0, unit="seconds",
+                          doc="seconds after the engine's first step"),
         "kind": Str(choices=("crash", "stall", "raise")),
     }), default=[]),
 })

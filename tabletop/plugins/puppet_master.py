@@ -70,7 +70,8 @@ DESIGNER = Record({
     "library": FilePath("library", must_exist=False, kind="dir", embed=True,
                         doc="folder the kept behaviours are saved in"),
     "name": Optional_(Str(), doc="name of kept behaviours (default: the engine's name)"),
-    "min_seconds": Number(2.0, lo=0.1, doc="shortest take that is trained"),
+    "min_seconds": Number(2.0, lo=0.1, hi=300.0, unit="seconds",
+                          doc="shortest take that is trained"),
     "sequential": Bool(False, doc="one hand: R records the main, R stops, R plays it back "
                        "and records the reactor against it (paper 3.1)"),
     "background_training": Bool(True, doc="train in a worker thread, swapped in between "

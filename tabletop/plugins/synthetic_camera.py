@@ -65,7 +65,8 @@ SCHEMA = Record({
     "marker_size": Number(0.05, lo=0.005, hi=0.5, doc="printed marker side, metres"),
     "puck_diameter": Number(0.075, lo=0.005, hi=0.5, doc="puck diameter, metres"),
     "hands": Record({
-        "every_s": Number(15.0, lo=0.0, doc="a hand reaches over the table this often (0: never)"),
+        "every_s": Number(15.0, lo=0.0, hi=3600.0, unit="seconds",
+                          doc="a hand reaches over the table this often (0: never)"),
         "duration_s": Number(1.6, lo=0.1, hi=60.0, doc="how long each reach lasts"),
         "size": Number(0.1, lo=0.02, hi=0.5, doc="palm length, metres"),
     }),

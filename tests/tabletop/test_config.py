@@ -166,3 +166,60 @@ def test_a_main_character_no_engine_makes_names_the_file(tmp_path, capsys):
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and err[0].startswith(f"tabletop run: error: {path}: engines[0].main: ")
     assert "'nobody'" in err[0]
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _set(shipped: str, where: tuple, value: float) -> str:
+    """The refusal of the shipped config ``shipped`` (under the repository) with ``value`` put
+    at ``where`` (keys and list indexes)."""
+    from tabletop.config import validate_config
+    from tabletop.files import read_yaml
+    data = read_yaml(ROOT / shipped)
+    node = data
+    for k in where[:-1]:
+        node = node.setdefault(k, {}) if isinstance(k, str) else node[k]
+    node[where[-1]] = value
+    with pytest.raises(ConfigError) as info:
+        validate_config(data, shipped, (ROOT / shipped).parent)
+    return str(info.value)
+
+
+@pytest.mark.parametrize("shipped, where, value, path", [
+    ("examples/mop.yaml", ("engines", 0, "performers", 0, "inputs", 0, "rest_time"), 800,
+     "engines[0].performers[0].inputs[0].rest_time"),
+    ("config.yaml", ("sources", 0, "hands", "every_s"), 15000, "sources[0].hands.every_s"),
+    ("config.yaml", ("kiosk", "idle_s"), 60000, "kiosk.idle_s"),
+    ("config.yaml", ("engines", 0, "designer", "min_seconds"), 2000,
+     "engines[0].designer.min_seconds"),
+])
+def test_a_time_given_in_milliseconds_is_refused_saying_seconds(shipped, where, value, path):
+    """Times with no upper bound took milliseconds: a puck still for 800 s ended no gesture,
+    a hand came over the table every four hours (found giving them in milliseconds)."""
+    msg = _set(shipped, where, value)
+    assert f"{shipped}: {path}: expected a number of seconds in [" in msg, msg
+    assert msg.endswith(f"got {float(value)} (out of range; milliseconds given?)"), msg
+    assert "\n" not in msg
+    assert "milliseconds" not in _set(shipped, where, -1.0)   # too small: no such question
+
+
+def test_a_config_over_a_megabyte_is_refused_before_it_is_parsed(tmp_path):
+    """A wrong file of tens of MB given as the config parsed for tens of seconds before its
+    error (5 MB: 2.7 s of CPU). Over 1 MB (the largest shipped config is 4.9 kB) it is refused
+    unread: the syntax error at its end is never reached."""
+    import os
+    import threading
+    big = GOOD + "# a long comment\n" * 70_000 + "view: [unclosed\n"   # 1.2 MB
+    msg = error_of(tmp_path, big)
+    assert msg == (f"{tmp_path / 'config.yaml'}: {len(big):,} bytes, more than a config holds "
+                   "(at most 1,048,576); not read (another file given?)"), msg
+    assert "syntax" in error_of(tmp_path, big[-100_000:])   # shorter: parsed, said
+    pipe = tmp_path / "pipe.yaml"
+    os.mkfifo(pipe)
+    writer = threading.Thread(target=pipe.write_text, args=(big,))
+    writer.start()
+    with pytest.raises(ConfigError) as info:
+        load_config(pipe)
+    writer.join()
+    assert f"{len(big):,} bytes, more than a config holds" in str(info.value)
