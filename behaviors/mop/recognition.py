@@ -29,7 +29,9 @@ from ``bench/follow_quality.py`` unless said otherwise.
   held-out aspect 1.2 0.427 -> 0.394; held-out seeds 101-106 sized mean 0.8884 -> 0.8905 but 105
   0.8860 -> 0.8812, unrelated worst 104 0.111 -> 0.116. Taken all the way to the mean: 102 and
   103's runs (spin wrist / circle, punch ankle / getup wrist) 5 / 7 -> 2 / 2, but 105 2 -> 3 and
-  106 4 -> 6.
+  106 4 -> 6. A quarter of the way: runs 4/4/7/2/2/4 and 3/6/4/2/5/2, within 20% 110 only, but an
+  unrelated stroke after a gesture (unambiguous) 0.072 -> 0.116, held-out valid after 30% 0.9022
+  -> 0.9016 (105 0.8860 -> 0.8793), bent 10% 0.621 -> 0.609, held-out aspect 1.2 0.427 -> 0.401.
 - Engagement: a template drives nothing until its progress passed its onset (the first state
   ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a still
   input lets the transitions' prior drift along the first states (a still tail after a diagonal
