@@ -75,7 +75,11 @@ than the one just ended 2, 3, 2, 4, 1, 0, 0, 1, 0, 2 -> 1, 0, 0, 4, 1, 0, 0, 1, 
 unrelated stroke right after a gesture valid 0.0730 -> 0.0761 of its ticks (every template
 gets the head start); started so also while the input was still coming closer to the last
 point, progress RMSE p90 at 0.7-1.4x 0.0405 -> 0.0423 (a fast-ending crawl wrist's 0.019 ->
-0.144: the performer was still finishing it).
+0.144: the performer was still finishing it). Nor the samples since the end was reached (1-8
+into the next gesture, 0.02-0.13 of it) stepped again through the new attempt (up to 12):
+``bench/follow_quality.py --sections=sequences`` (tuned / held-out) twenty within 20% 0.344 /
+0.344 unchanged, tuned the kick ankle 0.392 -> 0.357, the spin ankle 0.398 -> 0.336, the line
+0.427 -> 0.449, held-out the wave 0.269 -> 0.379, longest wrong run 2 / 4 -> 2 / 6.
 
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
