@@ -162,7 +162,8 @@ class GenerationStep(StepDetail):
                     # runs round the main at 1.25-2.19 rad/s, the relative step against it at
                     # 0.09-0.98; the correction's across part dropped in a charge 30-36 engine's
                     # (orbit 29-32 misses), the relative step's too 12-18 (orbit 13-18, the fast
-                    # and loops paths over). None kept.
+                    # and loops paths over). None kept. The step round the main held to the
+                    # moment's rate near it, the charge turned at its entry: step_charge.py.
                     along = (mx - mxp) * ex + (my - myp) * ey
                     sx -= k * ((mx - mxp) - along * ex)
                     sy -= k * ((my - myp) - along * ey)

@@ -32,6 +32,34 @@ Raising that cap in a charge by the live main's step away from the reactor meets
 (contact 34, orbit 43); at most the top speed 80 (18, 37), with the main's disc 60 (contact 3
 under on the fast paths, 13 over on both others); only while farther than the moment 73; the
 main's step away added after the cap 115 (orbit 62). None kept.
+
+Where a charge goes round its main. Within 0.1 m the bully goes round it at 0.74-0.93 rad/s (slow
+paths of seeds 41, 134, 135, 302, 306; its designer 0.20-0.35), in charges, from the drift
+correction toward a place held in the live main's frame, which turns and moves with the live main:
+the replayed segment chases a moving point. The bully's misses (the engine's alone) on seeds 0-5 /
+40-51 / 128-139 / 300-311, three runs (relative_motion x 1, 1 + 0.001, 1 - 0.001; Python step): as
+here 0 (0) / 6 (5) / 5 (4) / 9 (6), 1 (1) / 4 (4) / 5 (3) / 9 (7), 2 (2) / 5 (4) / 8 (6) / 10 (6),
+over the three 64 (48): orbit 28 (21), still/moving 21 (12), contact 15 (15). Within 0.12 m, at
+main-frame places in a charge after the cap, the step's part round the main held to the matched
+moment's own rate round it (its world bearing's change averaged over 1 s), the step's length kept
+(the held part turned along the bearing): 2 (2) / 2 (2) / 5 (4) / 4 (3), 1 (1) / 4 (3) / 3 (2) / 3
+(1), 1 (1) / 4 (3) / 5 (4) / 3 (1), 37 (27): orbit 4 (1), still/moving 19 (12), contact 14 (14),
+slow-path orbit mean 0.296-0.305 -> 0.263-0.270 rad/s (0.275 shown); but seeds 0-5 4 against 3
+(bench/fidelity.py --seeds 0,1,2,3,4,5 677 (7) -> 675 (9): seed 4 slow's contact 0.211 over 0.204),
+and its contact episodes on the slow and fast paths of seeds 0-5 off its designer's by 1.58 a path
+against 0.92 (tests/puppet_master/test_pm_push_rhythm.py: 1.3 at most); the held part turned inward
+only (an outward step only held) 43 (31), contact 18 (18), episodes off by 1.25. Within 0.1 / 0.15
+m 40 (27) / 52 (35); held without its length 62 (43), contact 22 (22). Held at every distance 50
+(33), orbit 1, but still/moving 37 (20) (a held charge walked slower beside a walking main: 0.306
+-> 0.263 m/s on seed 5 slow); with the rate read one sample later (demonstrated.angle_rates) 66
+(47), at its length then 46 (37), still/moving 32 (25), that only while the live main walks 58
+(43). Held at every distance, one run each (against 20 (15)): over 0.5 s / 2 s 17 (15) / 19 (14),
+at world places too 21 (17), the step less the main's held 27 (16), within the live main's turn +-
+the moment's rate in its frame 55 (30) (orbit 38). The demonstrated charge turned about the main
+once at its entry to the live bearing (the place alone / with its relative step) 31 (19) / 33 (23)
+(the fast paths' orbit 0.294 -> 0.325-0.333); a kept charge ended where the live rate over 0.25 s
+passed 1.5 x the moment's 47 (39), contact 35 (in charges on 9-13% of steps against 25%). None
+kept.
 """
 
 from __future__ import annotations
