@@ -84,7 +84,7 @@ class StepSenses:
         (21) / 34 (20) / 33 (23) (its pursuit loss moves from 300-311 to 40-51 and 128-139);
         not for the afraid one at all 120 (13) / 230 (46) / 276 (48) / 278 (39). The 128-139
         loss is the bully's (18 (13) -> 21 (18): its still/moving misses over the band 3 -> 10,
-        the ratio 1.28-1.44, as it charges a standing main at its straight pace) and the playful
+        the ratio 1.28-1.44: its still pace too fast there; not traced) and the playful
         friend's (12 (12) -> 14 (14): fast-path contact 3 -> 7); each character alone loses a
         set (the lover 40-51 80 (17) -> 82 (18)). Not kept."""
         ox, oy = self._main_recent[0]
