@@ -75,7 +75,18 @@ class StepSenses:
         worse anywhere, but its still pace the same (slow paths 0.0497 -> 0.0502 m/s, its
         still/moving misses 22 -> 20, the engine's 6 -> 6): the gain is orbit (16 -> 12 misses),
         the re-matching's spread; the other characters lose (all four 49 (7) / 109 (34) / 104
-        (21) / 102 (18), pursuit 1 (1) / 12 (8) / 11 (7) / 9 (7)). Not kept."""
+        (21) / 102 (18), pursuit 1 (1) / 12 (8) / 11 (7) / 9 (7)). Not kept.
+        Three runs (relative_motion x 1, 1 +- 0.001) summed, the four characters it touches,
+        open misses (the engine's) / pursuit per set, against 123 (16) / 233 (49) / 270 (45) /
+        298 (60), pursuit 4 (3) / 33 (20) / 30 (17) / 40 (25): the straightness kept 116 (14) /
+        220 (39) / 279 (46) / 264 (37), pursuit 5 (4) / 33 (20) / 32 (18) / 45 (25); not at the
+        afraid one's stood place 121 (13) / 222 (46) / 273 (47) / 264 (36), pursuit 4 (3) / 35
+        (21) / 34 (20) / 33 (23) (its pursuit loss moves from 300-311 to 40-51 and 128-139);
+        not for the afraid one at all 120 (13) / 230 (46) / 276 (48) / 278 (39). The 128-139
+        loss is the bully's (18 (13) -> 21 (18): its still/moving misses over the band 3 -> 10,
+        the ratio 1.28-1.44: its still pace too fast there; not traced) and the playful
+        friend's (12 (12) -> 14 (14): fast-path contact 3 -> 7); each character alone loses a
+        set (the lover 40-51 80 (17) -> 82 (18)). Not kept."""
         ox, oy = self._main_recent[0]
         return math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
 
