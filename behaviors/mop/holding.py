@@ -61,6 +61,8 @@ _CALLS_INTO = (invariance, reversal, validity)   # the files whose constants or 
 #: 0.95 while other actions led (``tests/mop/test_holding.py``). Held-out sized 0.7-1.4x valid
 #: after 30% (``bench/follow_seeds.py --sections=sized``, seeds 101-106): 6 states .9022 .8749
 #: .9057 .8871 .8860 .8744 (mean .8884); 9 and 12 .9022 .8849 .9057 .8968 .8865 .8840 (.8933).
+#: ``bench/follow_quality.py``: only the held-out 0.6/1.5x edges differ, .6751 -> .7001 (the
+#: tuned templates hold nowhere inside; raise-hold-return unchanged).
 HOLD_AHEAD = 9
 #: How far (still radii, every column) the input may lie from a hold's place at the size that
 #: puts it there.
