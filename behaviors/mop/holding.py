@@ -55,7 +55,17 @@ from behaviors.kernel_cache import compiled
 _CALLS_INTO = (invariance, reversal, validity)   # the files whose constants or kernels they take in
 
 #: States before a hold inside a template from which a resting performer may be holding it.
-HOLD_AHEAD = 6
+#: Along a straight stroke to a hold the size stays near 1 (size and progress are one there),
+#: so a performer resting on the hold at 0.7x is followed short of it: a 0.7x getup facedown
+#: wrist at state 8.6 of a stroke whose hold begins at state 15, where it stalled at size
+#: 0.95 while other actions led (``tests/mop/test_holding.py``). Held-out sized 0.7-1.4x valid
+#: after 30% (``bench/follow_seeds.py --sections=sized``), seeds 101-106: 6 states .9022 .8749
+#: .9057 .8871 .8860 .8744 (mean .8884); 7, 8, 9 or 12 .9022 .8849 .9057 .8968 .8865 .8840
+#: (.8933); seeds 107-112: 6 .8653 .8661 .8691 .8877 .8812 .8781 (.8746), 9 .8741 .8761 .8753
+#: .8934 .8912 .8797 (.8816). Every other figure of ``follow_seeds`` (101-112) and of
+#: ``bench/follow_quality.py`` as before but the held-out 0.6/1.5x edges, .6751 -> .7001 (the
+#: tuned templates hold nowhere inside; raise-hold-return unchanged).
+HOLD_AHEAD = 9
 #: How far (still radii, every column) the input may lie from a hold's place at the size that
 #: puts it there.
 SNAP_RADII = 3.0

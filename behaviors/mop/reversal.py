@@ -18,6 +18,16 @@ REVERSAL_COS = 0.0
 REVERSAL_MOVE = 2.0
 #: A template's reversal (its states as the input's samples, the sharpest of a run) is a
 #: landmark of the followed state from this many states behind it to this many ahead.
+#: Some lie in a wiggle of the first states, about 1 mm from the first (the figure eight's
+#: only one, at 0.01 of its extent), where jitter at rest takes any size (held-out seed 106: a
+#: 0.7x figure eight sized 1.72 before it began, never valid). Not kept, sized 0.7-1.4x valid
+#: after 30% (``bench/follow_seeds.py --sections=sized``, held-out 101-106; before .9022 .8749
+#: .9057 .8871 .8860 .8744): no landmark within 0.05 of the extent .9022 .8755 .9029 .8871
+#: .8860 .8840, tuned .9117 -> .9099 (a 0.7x circle .773 -> .682, a 0.7x wave .946 -> .857;
+#: on 103 a 0.7x figure eight .948 -> .379: that early size had helped); within 0.1 .9019
+#: .8741 .8982 .8869 .8856 .8787; no input reversal within 2.5 / 5 least motions
+#: (:data:`REVERSAL_MOVE`) of the anchor .9022 .8755 .9029 .8871 .8860 .8840 / .9020 .8738
+#: .8988 .8855 .8847 .8758.
 REVERSAL_BEHIND = 6
 REVERSAL_AHEAD = 6
 
