@@ -45,16 +45,20 @@ class Validity:
         (:func:`behaviors.mop.overrun.overruns`; ``g``: followed states, bank index), against
         the samples, followed states and sizes the tempo keeps (:meth:`_remember_tempo`);
         with "scale" invariance only (where no size is estimated, a performance at another size
-        is off its path by its size: an "offset" member at 1.3x lost 16 of 59 valid ticks)."""
+        is off its path by its size: an "offset" member at 1.3x lost 16 of 59 valid ticks).
+        Keeps which template overran (``_overran_k``, -1: none) for the next sample's ``held``."""
         back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
+        held, self._overran_k = self._overran_k == k, -1
         if self.invariance != "scale" or len(self._tempo_past) < back:
             return False
         b = self.bank
         lo = int(b.starts[k])
         g_pace, x_pace, s_pace = self._tempo_past[-overrun.PACE_SAMPLES]
         g_rise, x_rise, _ = self._tempo_past[-overrun.RISE_SAMPLES]
-        return bool(overrun.overruns(
+        out = bool(overrun.overruns(
             b.means, self._arc, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
             self._first_z[k], self._anchor, x, x_rise, x_pace, float(g[k] - lo),
             float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
-            self.sigma ** 2 * self.dim, float(self.dim)))
+            self.sigma ** 2 * self.dim, float(self.dim), held))
+        self._overran_k = k if out else -1
+        return out

@@ -96,6 +96,7 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._ended[rows] = -1
         self._forget_members(rows)
         self._tempo_n[rows] = 0
+        self._overran_k[rows] = -1
         self._crawl[rows] = (0, -1)   # as ActionFollower.reset: no crawl, no best
         mine = self._owner_of(rows)
         self._shape[mine] = 0.0

@@ -50,6 +50,7 @@ class GroupRules:
         self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
         self._tempo_s = np.ones((w, len(self._owner)))   # ... and the sizes (overrun.GROWN)
         self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
+        self._overran_k = np.full(m, -1, dtype=np.intp)   # (overrun.overruns' held)
         self._crawl = np.zeros((m, 2), dtype=np.intp)   # validity.crawls: run, best
 
     def _turned(self, present: np.ndarray) -> None:

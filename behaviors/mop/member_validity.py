@@ -127,14 +127,15 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
 
 
 @compiled(numba.boolean[::1](_F2, _I2, _F1, _F2, _F2, _F2, _F2, _B1, _B1, _I1, _I1, _I1, _I1,
-                             _F3, _F2, _F2, _F1), *_CALLS_INTO)
+                             _F3, _F2, _F2, _F1, _I1), *_CALLS_INTO)
 def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, at, seen,
-               tempo_x, tempo_g, tempo_s, size) -> np.ndarray:
+               tempo_x, tempo_g, tempo_s, size, overran_k) -> np.ndarray:
     """:meth:`Validity._overruns` of every present member that spots, for its best template
     (``size``: each template's), against the samples, followed states and sizes its tempo ring
     keeps (``tempo_x``, ``tempo_g``, ``tempo_s``; ``at``: the slot written next, ``seen``:
     samples so far; as :func:`tempo` reads them, before it writes this one); ``states``,
-    ``ti``, ``tc``, ``mc``: as :func:`behaviors.mop.members.conclude` takes them. Out: (M,)
+    ``ti``, ``tc``, ``mc``: as :func:`behaviors.mop.members.conclude` takes them;
+    ``overran_k``: the template each overran at its last sample (-1: none), updated. Out: (M,)
     flags."""
     out = np.zeros(bounds.size, dtype=np.bool_)
     w = TEMPO_SAMPLES
@@ -143,7 +144,11 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
     sc0, uf0, co0 = 5, 5 + 2 * d, 5 + 3 * d   # columns of tc (group_layout.TEMPLATE_ROWS)
     for i in range(bounds.size):
         m = mc[i]
-        if not (present[i] and spots[i] and m[8] > 0.0) or seen[i] < back:   # "scale" only
+        if not present[i]:
+            continue
+        held = overran_k[i] == best[i]
+        overran_k[i] = -1
+        if not (spots[i] and m[8] > 0.0) or seen[i] < back:   # "scale" only
             continue
         gb = bounds[i] + best[i]
         start, length, off = ti[gb, 0], ti[gb, 1], ti[gb, 2]
@@ -153,7 +158,9 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
             states[:, :d], states[:, 2 * d + 1], start, length, off, tc[gb, sc0:sc0 + d],
             tc[gb, uf0:uf0 + d], tc[gb, co0:co0 + d], anchor[i], x[i], tempo_x[sr, i],
             tempo_x[sp, i], min(mean[gb], length - 1.0), tempo_g[sr, gb], tempo_g[sp, gb],
-            size[gb], tempo_s[sp, gb], m[14], m[0])
+            size[gb], tempo_s[sp, gb], m[14], m[0], held)
+        if out[i]:
+            overran_k[i] = best[i]
     return out
 
 

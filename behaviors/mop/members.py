@@ -55,7 +55,7 @@ _RAD = len(MEMBER_RULES)
 MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
-               "_tempo_at", "_tempo_n", "_end_history_n")
+               "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
                  "_drive_peak", "_peak", "_m_dim")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
@@ -217,7 +217,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                           take_limit)
     overran = member_validity.overruns(states, ti, mean, tc, mc, vectors[0], vectors[1], present,
                                        m_flags[10], ints[0], ints[3], ints[14], ints[15],
-                                       tempo_x, tempo_g, tempo_s, size)
+                                       tempo_x, tempo_g, tempo_s, size, ints[17])
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
                           m_floats[8], onset, m_flags[2], crawl, ints[10])
