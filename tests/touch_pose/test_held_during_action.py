@@ -23,6 +23,9 @@ AFTER_MEDIAN_M = 0.08
 #: jumped, then moved back the next frame: walk 0.047, 0.037).
 HANDOVER_STEP_M = 0.02
 
+#: (action, the part held while it runs)
+HELD = [("walk", "right_hand"), ("punch", "left_hand"), ("kick", "left_hand")]
+
 
 def _hold_while_acting(e, models, action, part, seconds=3.0):
     """Hold ``part`` with finger 2, drag ``action``'s stroke with finger 1 from 0.2 s on, from
@@ -59,8 +62,7 @@ def _hold_while_acting(e, models, action, part, seconds=3.0):
     return far, after, modes, steps
 
 
-@pytest.mark.parametrize("action, part", [("walk", "right_hand"), ("punch", "left_hand"),
-                                          ("kick", "left_hand")])
+@pytest.mark.parametrize("action, part", HELD)
 def test_a_part_held_while_an_action_travels_stays_under_its_finger(make, models, action, part):
     e = make(view=(90.0, 15.0), physics=False)
     far, after, modes, _ = _hold_while_acting(e, models, action, part, seconds=3.5)
@@ -69,24 +71,8 @@ def test_a_part_held_while_an_action_travels_stays_under_its_finger(make, models
     assert float(np.median(after)) < AFTER_MEDIAN_M, after
 
 
-def _handovers() -> list:
-    """(action, held part, view) for the handover test. From 90,40 the punch's drag starts the
-    wave, held or not: the wave (48.5 degrees from the eye there, so not excluded) is judged
-    first and its threshold passed (``action.recognise``, "Which action a drag starts"). Kept
-    as a strict expected failure: the test says so the day it starts the punch."""
-    out = []
-    for view in [(90.0, 15.0), (60.0, 30.0), (90.0, 40.0)]:
-        for action, part in [("walk", "right_hand"), ("punch", "left_hand"),
-                             ("kick", "left_hand")]:
-            marks = (pytest.mark.xfail(strict=True, reason="the punch's drag fits the wave's "
-                                       "foreshortened stroke from 90,40 before the punch's "
-                                       "own can be judged")
-                     if (action, view) == ("punch", (90.0, 40.0)) else ())
-            out.append(pytest.param(action, part, view, marks=marks))
-    return out
-
-
-@pytest.mark.parametrize("action, part, view", _handovers())
+@pytest.mark.parametrize("action, part", HELD)
+@pytest.mark.parametrize("view", [(90.0, 15.0), (60.0, 30.0), (90.0, 40.0)])
 def test_a_held_part_moves_on_continuously_when_the_action_ends(make, models, action, part, view):
     e = make(view=view, physics=False)
     far, after, modes, steps = _hold_while_acting(e, models, action, part, seconds=2.5)
