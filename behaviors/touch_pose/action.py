@@ -58,7 +58,8 @@ from 36 views (every 30 degrees of azimuth, elevations 10, 25, 40; 138 of 504 dr
 drags starting another action than their own 7 -> 1 (punch as wave from 90,25, 90,40 and
 120,40, kick as spin kick from 210,25 at 1.5: all now start their own but the punch over 1.5
 from 120,40, still the wave); strokes starting their own action 348 -> 354, none later by a
-frame; none starting nothing 11 -> 11.
+frame; none starting nothing 11 -> 11. The same strokes turned by 90, -90 and 180 degrees, over
+0.5 and 1 times their duration (1098 drags), started the same actions as before.
 """
 
 from __future__ import annotations
