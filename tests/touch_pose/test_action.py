@@ -41,6 +41,19 @@ def test_the_same_drag_done_slowly_only_poses(make, models):
     assert recs[-1]["touches"] == {}
 
 
+@pytest.mark.parametrize("view", [(90.0, 25.0), (90.0, 40.0)])
+def test_a_punch_opening_like_the_shorter_wave_starts_the_punch(make, models, view):
+    """From these views the punch's drag fits the wave's whole (foreshortened) stroke 0.1 m
+    off, under its threshold, before half the punch has been drawn: the wave started. The
+    wave's own drag still starts the wave."""
+    for name in ("punch", "wave"):
+        e = make(view=view, physics=False)
+        desc = next(a for a in e.describe()["actions"] if a["name"] == name)
+        assert not desc["excluded"]
+        times = next(a for a in models.actions if a.name == name).stroke_t
+        assert actions_begun(e, np.array(desc["trajectory"]), times) == {name}
+
+
 def test_from_the_front_the_punch_is_excluded(make, models):
     front = make(view=(0.0, 15.0), physics=False)
     desc = {a["name"]: a for a in front.describe()["actions"]}
