@@ -146,12 +146,16 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     return out
 
 
-def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int) -> np.ndarray:
+def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int,
+              max_bytes: int | None = None) -> np.ndarray:
     """The rows (n, len(columns)) of CSV ``path``, in ``columns``' order, its times (the first
-    column) strictly increasing and its positions on no absurd scale; errors name the line."""
-    from tabletop.files import check_increasing, check_positions, read_csv_lines
+    column) strictly increasing and its positions on no absurd scale; errors name the line.
+    ``max_bytes``: the most such a file holds (else any text file's cap)."""
+    from tabletop.files import (MAX_TEXT_BYTES, check_increasing, check_positions,
+                                read_csv_lines)
 
-    header, rows, lines = read_csv_lines(path, columns, what=what, min_rows=min_rows)
+    header, rows, lines = read_csv_lines(path, columns, what=what, min_rows=min_rows,
+                                         max_bytes=max_bytes or MAX_TEXT_BYTES)
     rows = rows[:, [header.index(c) for c in columns]]
     check_increasing(rows[:, 0], path, lines=lines)
     check_positions(rows, columns, _positions(columns), path, lines=lines)
@@ -265,6 +269,7 @@ def read_demonstration(args: argparse.Namespace
     parameters), or paired from --train-main and --train-react; the stored parameters ({} but
     for a folder); and the file(s) its errors name."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
+    from tabletop.file_io import MAX_DEMONSTRATION_BYTES
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
@@ -274,12 +279,13 @@ def read_demonstration(args: argparse.Namespace
     if args.train is not None and Path(args.train).is_dir():
         return *read_folder(args.train, args.out), args.train
     if args.train is not None:
-        return read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2), {}, args.train
+        return (read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2,
+                          MAX_DEMONSTRATION_BYTES), {}, args.train)
     if args.train_main is None or args.train_react is None:
         raise BehaveArgumentError("sequential training needs both --train-main and --train-react")
     takes = []
     for path, cols in ((args.train_main, MAIN_COLUMNS), (args.train_react, OUT_COLUMNS)):
-        takes.append(read_rows(path, cols, "take CSV", 2))
+        takes.append(read_rows(path, cols, "take CSV", 2, MAX_DEMONSTRATION_BYTES))
     try:   # what the paired demonstration says (too short, no area) is of both takes
         return pair_takes(*takes), {}, f"{args.train_main}, {args.train_react} (paired)"
     except TakeError as exc:
