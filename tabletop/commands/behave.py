@@ -47,16 +47,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "parameters, as the installation plays it")
     parser.add_argument("--train-main", metavar="MAIN_TAKE.csv",
                         help="sequential training, instead of --train: the main demonstrated "
-                             "first, t,main_x,main_y,main_dir")
+                             "first, t,main_x,main_y,main_dir (seconds, table metres, radians)")
     parser.add_argument("--train-react", metavar="REACT_TAKE.csv",
                         help="sequential training: the reactor demonstrated against the main "
                              "take's playback, t,react_x,react_y,react_dir, t on the main take's "
-                             "times")
+                             "times (seconds, table metres, radians)")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="a behaviour parameter (repeatable), e.g. --param ratio=2, over a "
                              f"behaviour folder's own; NAME is one of: {', '.join(param_names())}")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
-                        help="main character's path: t,main_x,main_y,main_dir, any rate")
+                        help="main character's path: t,main_x,main_y,main_dir (seconds, "
+                             "table metres, radians), any rate")
     parser.add_argument("--out", required=True, metavar="REACT.csv",
                         help="output: t,react_x,react_y,react_dir, one row per generation step")
     parser.add_argument("--rate", default=None, metavar="HZ",
