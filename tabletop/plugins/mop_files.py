@@ -74,7 +74,8 @@ class MotionLoader:
                 clip = load_motion(what)
             else:
                 try:
-                    data = json_loads(read_text_within(Path(what), MAX_CLIP_BYTES, "clip"))
+                    data = json_loads(read_text_within(Path(what), MAX_CLIP_BYTES, "clip",
+                                                       MopError))
                 except (OSError, UnreadableText, json.JSONDecodeError) as exc:
                     raise MopError(f"{what}: cannot read clip: {exc}") from None
                 clip = clip_from_mapping(data, str(what))

@@ -24,7 +24,8 @@ def make_rig(c: dict) -> Rig:
     if c["kind"] == "sprite":
         from behaviors.mop.puppetry import sprite_sheet_from_mapping
         try:
-            data = json_loads(read_text_within(Path(c["sheet"]), MAX_CLIP_BYTES, "sprite sheet"))
+            data = json_loads(read_text_within(Path(c["sheet"]), MAX_CLIP_BYTES, "sprite sheet",
+                                               MopError))
         except (OSError, UnreadableText, json.JSONDecodeError) as exc:
             raise MopError(f"{c['sheet']}: cannot read sprite sheet: {exc}") from None
         return sprite_sheet_from_mapping(data, str(c["sheet"]))

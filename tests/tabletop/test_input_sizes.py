@@ -51,6 +51,16 @@ def _clip(p: Path) -> None:
     load_motion(p)
 
 
+def _json_clip(p: Path) -> None:
+    from tabletop.plugins.mop_files import MotionLoader
+    MotionLoader("creature", p.parent)(p.name)
+
+
+def _sprite_sheet(p: Path) -> None:
+    from tabletop.plugins.mop_rigs import make_rig
+    make_rig({"kind": "sprite", "sheet": str(p)})
+
+
 @pytest.mark.parametrize("name, start, cap, kind, read", [
     ("demonstration.csv", "t,main_x,main_y,main_dir,react_x,react_y,react_dir\n",
      file_io.MAX_DEMONSTRATION_BYTES, "demonstration", _demonstration),
@@ -62,6 +72,8 @@ def _clip(p: Path) -> None:
     ("lib/bird/actions.yaml", "actions:\n", file_io.MAX_DESCRIPTION_BYTES, "actions.yaml",
      _actions),
     ("walk.txt", '{"Frames": [', file_io.MAX_CLIP_BYTES, "DeepMimic clip", _clip),
+    ("hop.json", '{"frames": [', file_io.MAX_CLIP_BYTES, "clip", _json_clip),
+    ("bird.json", '{"frames": [', file_io.MAX_CLIP_BYTES, "sprite sheet", _sprite_sheet),
 ])
 def test_an_input_larger_than_its_kind_holds_is_refused_unparsed(tmp_path, name, start, cap,
                                                                  kind, read):
