@@ -35,12 +35,12 @@ MAX_TEXT_BYTES = 128 * 2**20   # a config, calibration or CSV input longer is re
 # behavior.yaml 0.5 kB; actions.yaml about 0.1 kB an action; a template 2 kB (an hour of
 # t,dx,dy at 60 Hz written full precision: 13 MB); a demonstration at 60 Hz written full
 # precision 4.7 MB for 10 minutes, 28 MB for an hour (the longest trained); a DeepMimic clip
-# at most 0.2 MB.
+# at most 0.2 MB; a designed touch-pose action 1.2 kB a pose (a minute at 60 Hz: 4.2 MB).
 MAX_CALIBRATION_BYTES = 2**20
 MAX_DESCRIPTION_BYTES = 2**20       # behavior.yaml, actions.yaml
 MAX_TEMPLATE_BYTES = 16 * 2**20     # a template or gesture CSV
 MAX_DEMONSTRATION_BYTES = 64 * 2**20   # an hour at 120 Hz
-MAX_CLIP_BYTES = 32 * 2**20         # a clip or sprite sheet (JSON)
+MAX_CLIP_BYTES = 32 * 2**20         # a clip, sprite sheet or designed action (JSON)
 
 
 class UnreadableText(Exception):

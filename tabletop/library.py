@@ -29,8 +29,9 @@ import numpy as np
 import yaml
 
 from tabletop.files import (MAX_DEMONSTRATION_BYTES, MAX_DESCRIPTION_BYTES, FileFormatError,
-                            atomic_write_text, check_increasing, check_positions, folder_failure,
-                            format_csv, new_folder, read_csv_lines, read_yaml)
+                            UnreadableText, atomic_write_text, check_increasing, check_positions,
+                            folder_failure, format_csv, new_folder, read_csv_lines,
+                            read_text_within, read_yaml)
 from tabletop.frames import InputError
 from tabletop.swap import MARKER, locked, real, recover, recover_all, replace_folder, saving
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
@@ -318,8 +319,8 @@ def write_name(folder: str | Path, name: str) -> tuple[str, str] | None:
     (None: not written)."""
     path = Path(folder) / BEHAVIOR_FILE
     try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
+        text = read_text_within(path, MAX_DESCRIPTION_BYTES, BEHAVIOR_FILE)
+    except UnreadableText:   # not text, or larger than any behavior.yaml: not ours to edit
         return None
     line = yaml.safe_dump({"name": name}, default_flow_style=False, allow_unicode=True,
                           width=1000).rstrip("\n")

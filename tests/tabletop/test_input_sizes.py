@@ -61,6 +61,12 @@ def _sprite_sheet(p: Path) -> None:
     make_rig({"kind": "sprite", "sheet": str(p)})
 
 
+def _designed(p: Path) -> None:
+    from behaviors.touch_pose.designed import read_take
+    from behaviors.touch_pose.humanoid import Humanoid
+    read_take(p, Humanoid())
+
+
 @pytest.mark.parametrize("name, start, cap, kind, read", [
     ("demonstration.csv", "t,main_x,main_y,main_dir,react_x,react_y,react_dir\n",
      file_io.MAX_DEMONSTRATION_BYTES, "demonstration", _demonstration),
@@ -74,6 +80,7 @@ def _sprite_sheet(p: Path) -> None:
     ("walk.txt", '{"Frames": [', file_io.MAX_CLIP_BYTES, "DeepMimic clip", _clip),
     ("hop.json", '{"frames": [', file_io.MAX_CLIP_BYTES, "clip", _json_clip),
     ("bird.json", '{"frames": [', file_io.MAX_CLIP_BYTES, "sprite sheet", _sprite_sheet),
+    ("wave.json", '{"format": ', file_io.MAX_CLIP_BYTES, "designed action", _designed),
 ])
 def test_an_input_larger_than_its_kind_holds_is_refused_unparsed(tmp_path, name, start, cap,
                                                                  kind, read):
@@ -112,3 +119,15 @@ def test_a_csv_value_over_csvs_field_limit_is_refused_naming_its_line(tmp_path):
         read_csv(p)
     assert str(info.value) == (f"{p}: line 3: field larger than field limit (131072) (not a "
                                "CSV file?)")
+
+
+def test_a_behavior_yaml_larger_than_one_holds_is_not_renamed_in(tmp_path):
+    """A rename rewrites the name line of behavior.yaml; one over its cap is left as it is
+    (it was read whole)."""
+    from tabletop.library import write_name
+    p = tmp_path / "pet" / "behavior.yaml"
+    p.parent.mkdir()
+    text = "name: pet\n" + "# a comment\n" * (file_io.MAX_DESCRIPTION_BYTES // 12)
+    p.write_text(text)                 # (valid YAML: on its own it would be renamed in)
+    assert write_name(p.parent, "cat") is None
+    assert p.read_text() == text
