@@ -35,7 +35,8 @@ import numpy as np
 from calibration.plausible import lens_problem, scale_problem
 from calibration.transforms import (apply_homography, distort_pixels, inverse, normalised,
                                     undistort_pixels)
-from tabletop.files import atomic_write_bytes, atomic_write_text, read_yaml
+from tabletop.files import (MAX_CALIBRATION_BYTES, atomic_write_bytes, atomic_write_text,
+                            read_yaml)
 from tabletop.frames import InputError
 
 FORMAT = "tabletop-calibration"
@@ -257,7 +258,8 @@ def load_calibration(path: str | Path, require_table: bool = True) -> Calibratio
     """Read and validate a calibration file; CalibrationError names the file and the key.
     ``require_table`` False also accepts a file that holds only the lens so far."""
     p = Path(path)
-    data = read_yaml(p, CalibrationError, missing="calibration file not found")
+    data = read_yaml(p, CalibrationError, missing="calibration file not found",
+                     max_bytes=MAX_CALIBRATION_BYTES, kind="calibration")
     if data is None:
         raise CalibrationError(f"{p}: the file is empty")
     cal = calibration_from_dict(data, str(p), require_table)

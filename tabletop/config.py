@@ -43,8 +43,8 @@ class ImageFile(FilePath):
 
 
 TABLE = Record({
-    "width": Number(1.2, lo=0.05, hi=20.0, doc="table length along x, metres"),
-    "height": Number(0.8, lo=0.05, hi=20.0, doc="table width along y, metres"),
+    "width": Number(1.2, unit="metres", lo=0.05, hi=20.0, doc="table length along x, metres"),
+    "height": Number(0.8, unit="metres", lo=0.05, hi=20.0, doc="table width along y, metres"),
 })
 
 LOOP = Record({
@@ -58,7 +58,8 @@ LOOP = Record({
 
 VIEW = Record({
     "enabled": Bool(True),
-    "size": ListOf(Number(integer=True, lo=64, hi=8192), default=[1280, 720], min_len=2,
+    "size": ListOf(Number(integer=True, unit="pixels",
+                          lo=64, hi=8192), default=[1280, 720], min_len=2,
                    max_len=2, doc="projector resolution in pixels"),
     "fullscreen": Bool(False),
     "display": Number(0, integer=True, lo=0, hi=16, doc="display index for fullscreen"),
@@ -80,7 +81,7 @@ VIEW = Record({
                                        "moment) even when the screen does not"),
     "margin_px": Number(24, integer=True, lo=0, hi=1000,
                         doc="border around the table when no calibration maps it"),
-    "puck_radius": Number(0.03, lo=0.005, hi=0.5, doc="drawn puck radius, metres"),
+    "puck_radius": Number(0.03, unit="metres", lo=0.005, hi=0.5, doc="drawn puck radius, metres"),
     "sprites": MapOf(ImageFile(), default={},
                      doc="character name -> PNG drawn instead of the vector shape (facing +x)"),
 })

@@ -30,6 +30,19 @@ MAX_TEXT_BYTES = 128 * 2**20   # a config, calibration or CSV input longer is re
 # whose previous file is read first) filled the machine's 23 GB and was killed
 
 
+# The most bytes each kind of input holds, said before it is read whole and parsed: a wrong
+# file is refused at once (YAML parses about 2 MB a second). Measured: a calibration 0.4 kB;
+# behavior.yaml 0.5 kB; actions.yaml about 0.1 kB an action; a template 2 kB (an hour of
+# t,dx,dy at 60 Hz written full precision: 13 MB); a demonstration at 60 Hz written full
+# precision 4.7 MB for 10 minutes, 28 MB for an hour (the longest trained); a DeepMimic clip
+# at most 0.2 MB; a designed touch-pose action 1.2 kB a pose (a minute at 60 Hz: 4.2 MB).
+MAX_CALIBRATION_BYTES = 2**20
+MAX_DESCRIPTION_BYTES = 2**20       # behavior.yaml, actions.yaml
+MAX_TEMPLATE_BYTES = 16 * 2**20     # a template or gesture CSV
+MAX_DEMONSTRATION_BYTES = 64 * 2**20   # an hour at 120 Hz
+MAX_CLIP_BYTES = 32 * 2**20         # a clip, sprite sheet or designed action (JSON)
+
+
 class UnreadableText(Exception):
     """A text input refused whole: over :data:`MAX_TEXT_BYTES` bytes, or not text in the
     encoding read (the message names the line of the first byte that is not)."""
@@ -67,6 +80,26 @@ def read_text(path: Path, encoding: str = "utf-8") -> str:
         raise UnreadableText(f"line {line}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 "
                              "text (a binary file, or text saved in another encoding?)") from None
     return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def read_text_within(path: Path, max_bytes: int, kind: str,
+                     error: type[Exception] = UnreadableText, encoding: str = "utf-8") -> str:
+    """:func:`read_text` of a ``kind`` of file that never holds over ``max_bytes``: one over it
+    raises ``error`` naming the file and its size, before it is read (a regular file) or parsed
+    (a pipe or a device: its text counted)."""
+    size = path.stat().st_size if path.is_file() else 0
+    if size <= max_bytes:
+        text = read_text(path, encoding)
+        size = len(text)
+    if size > max_bytes:
+        raise error(too_big(path, size, max_bytes, kind))
+    return text
+
+
+def too_big(p: Path, size: int, max_bytes: int, kind: str) -> str:
+    """A file over what its kind holds, in one line naming it and its size."""
+    return (f"{p}: {size:,} bytes, more than a {kind} holds (at most {max_bytes:,}); not read "
+            "(another file given?)")
 
 
 def _read_capped(f: IO[bytes]) -> bytes:

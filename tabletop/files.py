@@ -19,9 +19,11 @@ import numpy as np
 import yaml
 
 from tabletop.file_io import (  # noqa: F401  (shared layer)
-    MAX_TEXT_BYTES, FileFormatError, UnreadableText, alive, atomic_write_bytes, atomic_write_text,
-    atomic_writer, file_on_path, folder_failure, fsync_folder, is_stream, json_loads, new_folder,
-    read_regular_bytes, read_text, write_synced)
+    MAX_CALIBRATION_BYTES, MAX_CLIP_BYTES, MAX_DEMONSTRATION_BYTES, MAX_DESCRIPTION_BYTES,
+    MAX_TEMPLATE_BYTES, MAX_TEXT_BYTES, FileFormatError, UnreadableText, alive,
+    atomic_write_bytes, atomic_write_text, atomic_writer, file_on_path, folder_failure,
+    fsync_folder, is_stream, json_loads, new_folder, read_regular_bytes, read_text,
+    read_text_within, write_synced)
 from tabletop.frames import MAX_POSITION_M, InputError
 from tabletop.names import NameTaken, keep_under_free_name  # noqa: F401  (shared layer)
 
@@ -43,24 +45,26 @@ def write_csv(path: str | Path, header: Sequence[str],
 
 
 def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
-             min_rows: int = 1) -> tuple[list[str], np.ndarray]:
+             min_rows: int = 1, max_bytes: int = MAX_TEXT_BYTES) -> tuple[list[str], np.ndarray]:
     """Read a numeric CSV with a header row; returns (column names, float array rows x columns).
     See :func:`read_csv_lines`."""
-    return read_csv_lines(path, required, what, min_rows)[:2]
+    return read_csv_lines(path, required, what, min_rows, max_bytes)[:2]
 
 
 def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
-                   min_rows: int = 1) -> tuple[list[str], np.ndarray, np.ndarray]:
+                   min_rows: int = 1, max_bytes: int = MAX_TEXT_BYTES
+                   ) -> tuple[list[str], np.ndarray, np.ndarray]:
     """Read a numeric CSV with a header row; returns (column names, float array rows x columns,
     the file line number of each row).
 
-    Raises FileFormatError for a missing or unreadable file, an empty file, a header without the
+    Raises FileFormatError for a file over ``max_bytes`` (before it is parsed), a missing or
+    unreadable file, an empty file, a header without the
     ``required`` columns, duplicate columns, a row of the wrong length, a non-numeric or
     non-finite value (with its line number) or fewer than ``min_rows`` rows.
     """
     p = Path(path)
     try:
-        text = read_text(p, encoding="utf-8-sig")
+        text = read_text_within(p, max_bytes, what, FileFormatError, "utf-8-sig")
     except FileNotFoundError:
         raise FileFormatError(f"{p}: {what} not found") from None
     except IsADirectoryError:
@@ -70,7 +74,11 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
     # row by row, not list(csv.reader(...)): one C call holds the GIL for the whole file, and
     # a worker reading a 600 s demonstration that way stalls the frame loop 8-60 ms
     # (bench/reload_tick.py)
-    rows = [r for r in csv.reader(text.splitlines())]
+    reader = csv.reader(text.splitlines())
+    try:
+        rows = [r for r in reader]
+    except csv.Error as exc:   # a value over csv's 128 kB field limit: no CSV of numbers
+        raise FileFormatError(f"{p}: line {reader.line_num}: {exc} (not a {what}?)") from None
     first = next((i for i, r in enumerate(rows) if any(c.strip() for c in r)), None)
     if first is None:
         raise FileFormatError(f"{p}: {what} is empty (expected a header row)")
@@ -219,12 +227,7 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
     about 2 MB a second, so a wrong file of 50 MB took half a minute to be refused."""
     p = Path(path)
     try:
-        size = p.stat().st_size if max_bytes is not None and p.is_file() else 0
-        if max_bytes is not None and size > max_bytes:
-            raise error(_too_big(p, size, max_bytes, kind))
-        text = read_text(p)
-        if max_bytes is not None and len(text) > max_bytes:   # a pipe or a device: its text
-            raise error(_too_big(p, len(text), max_bytes, kind))
+        text = read_text(p) if max_bytes is None else read_text_within(p, max_bytes, kind, error)
     except FileNotFoundError:
         raise error(f"{p}: {missing}") from None
     except IsADirectoryError:
@@ -233,7 +236,3 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)
 
-
-def _too_big(p: Path, size: int, max_bytes: int, kind: str) -> str:
-    return (f"{p}: {size:,} bytes, more than a {kind} holds (at most {max_bytes:,}); not read "
-            "(another file given?)")

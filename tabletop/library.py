@@ -28,8 +28,10 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 import yaml
 
-from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
-                            folder_failure, format_csv, new_folder, read_csv_lines, read_yaml)
+from tabletop.files import (MAX_DEMONSTRATION_BYTES, MAX_DESCRIPTION_BYTES, FileFormatError,
+                            UnreadableText, atomic_write_text, check_increasing, check_positions,
+                            folder_failure, format_csv, new_folder, read_csv_lines,
+                            read_text_within, read_yaml)
 from tabletop.frames import InputError
 from tabletop.swap import MARKER, locked, real, recover, recover_all, replace_folder, saving
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
@@ -127,7 +129,7 @@ def read_demonstration(path: str | Path) -> np.ndarray:
     """
     try:
         header, data, lines = read_csv_lines(path, required=COLUMNS, what="demonstration",
-                                             min_rows=2)
+                                             min_rows=2, max_bytes=MAX_DEMONSTRATION_BYTES)
         check_increasing(data[:, header.index("t")], path, lines=lines)
         check_positions(data, header, POSITIONS, path, lines=lines)
     except FileFormatError as exc:
@@ -160,7 +162,8 @@ def recorded_source(name: str, params: Mapping[str, Any], demonstration: np.ndar
 
 def _read_yaml(path: Path) -> Any:
     return read_yaml(path, LibraryError, missing=f"not found (a behaviour folder needs a "
-                     f"{BEHAVIOR_FILE})", problem="corrupt YAML")
+                     f"{BEHAVIOR_FILE})", problem="corrupt YAML",
+                     max_bytes=MAX_DESCRIPTION_BYTES, kind=BEHAVIOR_FILE)
 
 
 def read_description(folder: str | Path) -> dict[str, Any]:
@@ -316,8 +319,8 @@ def write_name(folder: str | Path, name: str) -> tuple[str, str] | None:
     (None: not written)."""
     path = Path(folder) / BEHAVIOR_FILE
     try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
+        text = read_text_within(path, MAX_DESCRIPTION_BYTES, BEHAVIOR_FILE)
+    except UnreadableText:   # not text, or larger than any behavior.yaml: not ours to edit
         return None
     line = yaml.safe_dump({"name": name}, default_flow_style=False, allow_unicode=True,
                           width=1000).rstrip("\n")

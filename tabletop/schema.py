@@ -7,6 +7,7 @@ right. Validation is strict: unknown keys, wrong types and out-of-range values a
 
 from __future__ import annotations
 
+import copy
 import difflib
 import math
 import re
@@ -109,7 +110,9 @@ YAML_TEXT_NUMBER = re.compile(r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+")
 
 class Number(Spec):
     """An int or float (``integer=True``: int only) within [lo, hi]; ``unit`` ("seconds") is
-    said in its refusals, and a time over ``hi`` seconds is asked about as milliseconds."""
+    said in its refusals (a :class:`Record` key ending ``_s``, ``_m``, ... names it), and a
+    value over ``hi`` that is in range read as thousandths is asked about as milliseconds or
+    millimetres."""
 
     def __init__(self, default: Any = REQUIRED, lo: float | None = None, hi: float | None = None,
                  integer: bool = False, doc: str = "", unit: str = "") -> None:
@@ -118,7 +121,8 @@ class Number(Spec):
 
     def describe(self) -> str:
         kind = "an integer" if self.integer else "a number"
-        kind += f" of {self.unit}" if self.unit else ""
+        kind += f" of {self.unit}" if self.unit and not self.integer else ""
+        kind += f" number of {self.unit}" if self.unit and self.integer else ""
         if self.lo is not None and self.hi is not None:
             return f"{kind} in [{self.lo}, {self.hi}]"
         if self.lo is not None:
@@ -140,11 +144,48 @@ class Number(Spec):
         if isinstance(value, float) and not math.isfinite(value):  # NaN, inf
             raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}")
         if (self.lo is not None and value < self.lo) or (self.hi is not None and value > self.hi):
-            ms = self.unit == "seconds" and self.hi is not None and value > self.hi
-            why = "; milliseconds given?" if ms else ""
+            why = self.thousandths_hint(value)
             raise ctx.error(path, f"expected {self.describe()}, got {shown(value)} "
                                   f"(out of range{why})")
         return value
+
+    def thousandths_hint(self, value: float) -> str:
+        """For a value over ``hi`` that a thousandth of is in range, in seconds or metres:
+        '; milliseconds given?' (or millimetres); else ''."""
+        smaller = THOUSANDTHS.get(self.unit)
+        if smaller is None or self.hi is None or value <= self.hi:
+            return ""
+        ok = (self.lo is None or value / 1000 >= self.lo) and value / 1000 <= self.hi
+        return f"; {smaller} given?" if ok else ""
+
+
+# the unit a key's name ends with (``stall_s``), said when its value is refused
+UNIT_SUFFIXES = {"_s": "seconds", "_m": "metres", "_px": "pixels", "_hz": "Hz",
+                 "_deg": "degrees", "_rad": "radians", "_mb": "megabytes"}
+# a value a thousand times too large in these units was likely given in the smaller one
+THOUSANDTHS = {"seconds": "milliseconds", "metres": "millimetres"}
+
+
+def with_unit(spec: Spec, unit: str) -> Spec:
+    """``spec`` with ``unit`` on its numbers (in a list, a range or optional) that name none;
+    ``spec`` itself when there is nothing to name."""
+    if not unit:
+        return spec
+    if isinstance(spec, Number) and not spec.unit:
+        spec = copy.copy(spec)
+        spec.unit = unit
+    elif isinstance(spec, Optional_) and spec.inner is not with_unit(spec.inner, unit):
+        spec = copy.copy(spec)
+        spec.inner = with_unit(spec.inner, unit)
+    elif isinstance(spec, ListOf) and spec.item is not with_unit(spec.item, unit):
+        spec = copy.copy(spec)
+        spec.item = with_unit(spec.item, unit)
+    return spec
+
+
+def unit_of(key: str) -> str:
+    """The unit ``key``'s name ends with (``stall_s``: seconds), or ''."""
+    return next((u for end, u in UNIT_SUFFIXES.items() if key.endswith(end)), "")
 
 
 def yaml_number_hint(value: Any) -> str:
@@ -302,7 +343,8 @@ class Record(Spec):
 
     def __init__(self, fields: Mapping[str, Spec], default: Any = None, doc: str = "",
                  check: Callable[[dict, str, Context], None] | None = None) -> None:
-        self.fields, self.doc, self.check = dict(fields), doc, check
+        self.fields = {k: with_unit(f, unit_of(k)) for k, f in fields.items()}
+        self.doc, self.check = doc, check
         # A record whose fields all have defaults may be omitted entirely.
         self.default = default if default is not None else (
             {} if all(f.default is not REQUIRED for f in self.fields.values()) else REQUIRED)

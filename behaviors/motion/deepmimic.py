@@ -26,7 +26,7 @@ from typing import Iterable, Mapping
 import numpy as np
 
 from behaviors.motion.clips import Channel, Clip, ClipError
-from tabletop.files import json_loads
+from tabletop.files import MAX_CLIP_BYTES, UnreadableText, json_loads, read_text_within
 
 # (channel name, kind) in frame order after the duration; "pos" is 3 scalars.
 HUMANOID_LAYOUT: tuple[tuple[str, str], ...] = (
@@ -122,10 +122,10 @@ def load_motion(path_or_name: str | Path) -> Clip:
     if not p.suffix and not p.is_file():
         p = motion_path(str(path_or_name))
     try:
-        text = p.read_text(encoding="utf-8")
+        text = read_text_within(p, MAX_CLIP_BYTES, "DeepMimic clip", ClipError)
     except FileNotFoundError:
         raise ClipError(f"{p}: DeepMimic clip not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except (OSError, UnreadableText) as exc:
         raise ClipError(f"{p}: cannot read DeepMimic clip: {exc}") from None
     try:
         data = json_loads(text)

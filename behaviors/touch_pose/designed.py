@@ -30,7 +30,8 @@ from behaviors.touch_pose.humanoid import PARTS, Humanoid, Pose
 from behaviors.touch_pose.latent import LearnedModel
 from behaviors.touch_pose.samples import ActionSpec, Segment, relative
 from tabletop.frames import MAX_POSITION_M, InputError
-from tabletop.files import NameTaken, json_loads, new_folder
+from tabletop.files import (MAX_CLIP_BYTES, NameTaken, UnreadableText, json_loads, new_folder,
+                            read_text_within)
 
 FORMAT = "tabletop.touch_pose_action"
 FILE = "action.json"
@@ -106,8 +107,9 @@ def to_json(name: str, part: str, times: np.ndarray, poses: Sequence[Pose]) -> s
 def read_take(path: Path, body: Humanoid) -> tuple[str, np.ndarray, list[Pose]]:
     """(part, times, poses) of a stored action; DesignedActionError naming the file."""
     try:
-        d = json_loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        d = json_loads(read_text_within(Path(path), MAX_CLIP_BYTES, "designed action",
+                                        DesignedActionError))
+    except (OSError, UnreadableText, json.JSONDecodeError) as exc:
         raise DesignedActionError(f"{path}: cannot read the action: {exc}") from None
     try:
         if not isinstance(d, dict) or d.get("format") != FORMAT:

@@ -47,16 +47,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "parameters, as the installation plays it")
     parser.add_argument("--train-main", metavar="MAIN_TAKE.csv",
                         help="sequential training, instead of --train: the main demonstrated "
-                             "first, t,main_x,main_y,main_dir")
+                             "first, t,main_x,main_y,main_dir (seconds, table metres, radians)")
     parser.add_argument("--train-react", metavar="REACT_TAKE.csv",
                         help="sequential training: the reactor demonstrated against the main "
                              "take's playback, t,react_x,react_y,react_dir, t on the main take's "
-                             "times")
+                             "times (seconds, table metres, radians)")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="a behaviour parameter (repeatable), e.g. --param ratio=2, over a "
                              f"behaviour folder's own; NAME is one of: {', '.join(param_names())}")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
-                        help="main character's path: t,main_x,main_y,main_dir, any rate")
+                        help="main character's path: t,main_x,main_y,main_dir (seconds, "
+                             "table metres, radians), any rate")
     parser.add_argument("--out", required=True, metavar="REACT.csv",
                         help="output: t,react_x,react_y,react_dir, one row per generation step")
     parser.add_argument("--rate", default=None, metavar="HZ",
@@ -146,12 +147,16 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     return out
 
 
-def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int) -> np.ndarray:
+def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int,
+              max_bytes: int | None = None) -> np.ndarray:
     """The rows (n, len(columns)) of CSV ``path``, in ``columns``' order, its times (the first
-    column) strictly increasing and its positions on no absurd scale; errors name the line."""
-    from tabletop.files import check_increasing, check_positions, read_csv_lines
+    column) strictly increasing and its positions on no absurd scale; errors name the line.
+    ``max_bytes``: the most such a file holds (else any text file's cap)."""
+    from tabletop.files import (MAX_TEXT_BYTES, check_increasing, check_positions,
+                                read_csv_lines)
 
-    header, rows, lines = read_csv_lines(path, columns, what=what, min_rows=min_rows)
+    header, rows, lines = read_csv_lines(path, columns, what=what, min_rows=min_rows,
+                                         max_bytes=max_bytes or MAX_TEXT_BYTES)
     rows = rows[:, [header.index(c) for c in columns]]
     check_increasing(rows[:, 0], path, lines=lines)
     check_positions(rows, columns, _positions(columns), path, lines=lines)
@@ -265,6 +270,7 @@ def read_demonstration(args: argparse.Namespace
     parameters), or paired from --train-main and --train-react; the stored parameters ({} but
     for a folder); and the file(s) its errors name."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
+    from tabletop.file_io import MAX_DEMONSTRATION_BYTES
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
@@ -274,12 +280,13 @@ def read_demonstration(args: argparse.Namespace
     if args.train is not None and Path(args.train).is_dir():
         return *read_folder(args.train, args.out), args.train
     if args.train is not None:
-        return read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2), {}, args.train
+        return (read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2,
+                          MAX_DEMONSTRATION_BYTES), {}, args.train)
     if args.train_main is None or args.train_react is None:
         raise BehaveArgumentError("sequential training needs both --train-main and --train-react")
     takes = []
     for path, cols in ((args.train_main, MAIN_COLUMNS), (args.train_react, OUT_COLUMNS)):
-        takes.append(read_rows(path, cols, "take CSV", 2))
+        takes.append(read_rows(path, cols, "take CSV", 2, MAX_DEMONSTRATION_BYTES))
     try:   # what the paired demonstration says (too short, no area) is of both takes
         return pair_takes(*takes), {}, f"{args.train_main}, {args.train_react} (paired)"
     except TakeError as exc:

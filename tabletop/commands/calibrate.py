@@ -28,47 +28,57 @@ DEFAULT_BOARD = "7x5:40:30:DICT_5X5_100"  # calibration.charuco's default (no Op
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     sub = parser.add_subparsers(dest="step", metavar="STEP", required=True)
+    out = "the calibration file written"
     board = "ChArUco board COLSxROWS:SQUARE_MM:MARKER_MM:DICTIONARY (default %(default)s)"
     p = sub.add_parser("board", help="draw the ChArUco board to print, and say its size")
-    p.add_argument("--out", required=True, metavar="BOARD.png")
+    p.add_argument("--out", required=True, metavar="BOARD.png", help="the board image to print")
     p.add_argument("--board", default=DEFAULT_BOARD, metavar="SPEC", help=board)
-    p.add_argument("--dpi", default="300", metavar="DPI", help="printer resolution (300)")
+    p.add_argument("--dpi", default="300", metavar="DPI", help="printer resolution, dots per inch "
+                                                                "(default 300)")
     p = sub.add_parser("camera", help="solve the camera lens from views of the printed board")
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--images", metavar="DIR", help="a folder of PNG/JPEG views of the board")
     src.add_argument("--device", metavar="N", help="a live camera: grab views with a key press")
-    p.add_argument("--out", required=True, metavar="CALIB.yaml")
+    p.add_argument("--out", required=True, metavar="CALIB.yaml", help=out)
     p.add_argument("--board", default=DEFAULT_BOARD, metavar="SPEC", help=board)
     p.add_argument("--save-views", metavar="DIR", help="live: also save the grabbed views here")
     p.add_argument("--force", action="store_true", help="keep a result over the error threshold")
     p = sub.add_parser("table", help="fit camera -> table from markers at known positions")
-    p.add_argument("--image", required=True, metavar="IMAGE")
+    p.add_argument("--image", required=True, metavar="IMAGE",
+                   help="a camera image of the markers on the table")
     p.add_argument("--marker", action="append", default=[], metavar="ID=X,Y",
                    help="a marker's id and the table position of its centre (metres)")
-    p.add_argument("--out", required=True, metavar="CALIB.yaml")
-    p.add_argument("--dictionary", default="DICT_4X4_50", metavar="NAME")
+    p.add_argument("--out", required=True, metavar="CALIB.yaml", help=out)
+    p.add_argument("--dictionary", default="DICT_4X4_50", metavar="NAME",
+                   help="OpenCV dictionary of the markers (default %(default)s)")
     p.add_argument("--calibration", metavar="CALIB.yaml", help="take the lens from this file")
     p.add_argument("--force", action="store_true", help="keep a result over the error threshold")
     p = sub.add_parser("pattern", help="draw the image the projector shows for its calibration")
-    p.add_argument("--out", required=True, metavar="PATTERN.png")
-    p.add_argument("--size", required=True, metavar="W,H", help="projector pixels")
+    p.add_argument("--out", required=True, metavar="PATTERN.png", help="the pattern image")
+    p.add_argument("--size", required=True, metavar="W,H", help="its size, projector pixels")
     p = sub.add_parser("projector", help="fit table -> projector from camera images of the "
                                          "projected pattern (or live with --live)")
-    p.add_argument("--pattern", metavar="PATTERN.png")
-    p.add_argument("--image", action="append", default=[], metavar="IMAGE")
-    p.add_argument("--calibration", required=True, metavar="CALIB.yaml")
-    p.add_argument("--out", required=True, metavar="CALIB.yaml")
-    p.add_argument("--table", metavar="W,H", help="table size (m): pattern corners beyond the "
-                                                  "table's edge are not used")
+    p.add_argument("--pattern", metavar="PATTERN.png", help="the pattern the projector showed "
+                                                            "(from calibrate pattern)")
+    p.add_argument("--image", action="append", default=[], metavar="IMAGE",
+                   help="a camera image of the projected pattern (repeatable)")
+    p.add_argument("--calibration", required=True, metavar="CALIB.yaml",
+                   help="the calibration with the camera -> table fit")
+    p.add_argument("--out", required=True, metavar="CALIB.yaml", help=out)
+    p.add_argument("--table", metavar="W,H", help="table size, metres: pattern corners beyond the "
+                                                  "table's edge are not used (default: all used)")
     p.add_argument("--live", action="store_true", help="show the pattern fullscreen and grab "
                                                        "camera frames until the fit is stable")
-    p.add_argument("--device", default="0", metavar="N", help="live: the camera (0)")
-    p.add_argument("--display", default="1", metavar="N", help="live: the projector display (1)")
-    p.add_argument("--size", metavar="W,H", help="live: projector pixels (the display's size)")
+    p.add_argument("--device", default="0", metavar="N", help="live: the camera index (default 0)")
+    p.add_argument("--display", default="1", metavar="N", help="live: the projector display "
+                                                                    "(default 1)")
+    p.add_argument("--size", metavar="W,H", help="live: projector pixels (default: the "
+                                                        "display's size)")
     p.add_argument("--force", action="store_true", help="keep a result over the error threshold")
     p = sub.add_parser("check", help="project a cross under every puck and measure how far "
                                      "each lands from its puck (mm)")
-    p.add_argument("--config", default="config.yaml", metavar="FILE")
+    p.add_argument("--config", default="config.yaml", metavar="FILE",
+                   help="the installation's config (default %(default)s)")
     p.add_argument("--tolerance", default=None, metavar="MM",
                    help="pass when every cross lands this close (default 2 mm)")
     for name, step in sub.choices.items():   # errors name the step, as its usage errors do

@@ -203,7 +203,7 @@ def main(args: argparse.Namespace) -> int:
     import numpy as np
 
     from behaviors.mop.follower import ActionFollower, TemplateError
-    from tabletop.files import check_increasing, read_csv_lines, write_csv
+    from tabletop.files import MAX_TEMPLATE_BYTES, check_increasing, read_csv_lines, write_csv
 
     sigma = number_in_range(args.sigma, "--sigma", "standardised units", *SIGMA,
                             FollowArgumentError)
@@ -219,7 +219,7 @@ def main(args: argparse.Namespace) -> int:
     for name, path in pairs:
         # (no row is said as one row is: "has 0 sample(s), needs at least 2" just below)
         header, data, tlines = read_csv_lines(path, what=f"template {name!r} CSV file",
-                                              min_rows=0)
+                                              min_rows=0, max_bytes=MAX_TEMPLATE_BYTES)
         names, feats = _features(path, header, data, f"template {name!r}", tlines)
         if "t" in header:   # (the engine refuses such a template; it was followed here)
             check_increasing(data[:, header.index("t")], path, lines=tlines)

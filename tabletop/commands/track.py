@@ -46,7 +46,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="OpenCV marker dictionary, e.g. DICT_4X4_50 (default) or "
                              "DICT_APRILTAG_36h11")
     parser.add_argument("--calibration", default=None, metavar="FILE",
-                        help="calibration YAML: report table metres and table angles")
+                        help="calibration YAML: report table metres and table angles "
+                             "(default: camera pixels)")
     parser.add_argument("--fps", default=None, metavar="F",
                         help="frames per second for t (a folder: default 30; a video or camera: "
                              "its own rate)")

@@ -32,7 +32,7 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
     """Scripted performers for attract mode, one per MOP performer driven by a puck's path
     (``features: [dx, dy]``): it draws that performer's action templates (CSV ``t,dx,dy``) from
     a home spread along the table, so the MOP characters play their actions."""
-    from tabletop.files import FileFormatError, read_csv
+    from tabletop.files import MAX_TEMPLATE_BYTES, FileFormatError, read_csv
     found: list[tuple[int, list]] = []
     for e in cfg["engines"]:
         if e["kind"] != "mop":
@@ -46,7 +46,8 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
                 for a in c["actions"]:
                     if (a["performer"] or c["performer"]) == p["name"]:
                         try:
-                            read_csv(a["template"], required=("t", "dx", "dy"), min_rows=2)
+                            read_csv(a["template"], required=("t", "dx", "dy"), min_rows=2,
+                                     max_bytes=MAX_TEMPLATE_BYTES)
                         except FileFormatError:
                             continue
                         files.append(a["template"])

@@ -124,9 +124,10 @@ class Exposure(Number):
 
 SCHEMA = Record({
     "device": Device(0),
-    "resolution": Optional_(ListOf(Number(integer=True, lo=16, hi=16384), min_len=2, max_len=2),
+    "resolution": Optional_(ListOf(Number(integer=True, unit="pixels",
+                                          lo=16, hi=16384), min_len=2, max_len=2),
                             doc="requested [width, height] in pixels (devices)"),
-    "fps": Optional_(Number(lo=1.0, hi=1000.0),
+    "fps": Optional_(Number(unit="Hz", lo=1.0, hi=1000.0),
                      doc="requested frame rate (devices); playback rate (files, folders)"),
     "exposure": Optional_(Exposure(), doc="manual exposure in V4L2 units of 100 us"),
     "calibration": Optional_(FilePath(kind="file"),

@@ -15,7 +15,8 @@ from behaviors.mop.puppetry import Action
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             parse_yaml, read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
-from tabletop.files import NameTaken, json_loads
+from tabletop.files import (MAX_CLIP_BYTES, MAX_DESCRIPTION_BYTES, MAX_TEMPLATE_BYTES, NameTaken,
+                            UnreadableText, json_loads, read_text_within)
 from tabletop.swap import exclusive
 
 log = logging.getLogger("tabletop")
@@ -73,8 +74,9 @@ class MotionLoader:
                 clip = load_motion(what)
             else:
                 try:
-                    data = json_loads(Path(what).read_text(encoding="utf-8"))
-                except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+                    data = json_loads(read_text_within(Path(what), MAX_CLIP_BYTES, "clip",
+                                                       MopError))
+                except (OSError, UnreadableText, json.JSONDecodeError) as exc:
                     raise MopError(f"{what}: cannot read clip: {exc}") from None
                 clip = clip_from_mapping(data, str(what))
             self._cache[motion] = clip
@@ -91,7 +93,8 @@ MAX_TEMPLATE_S = 3600.0   # seconds an action's template may span (gestures take
 def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
     """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
     has a ``t`` column. Raises FileFormatError naming the file."""
-    header, data, lines = read_csv_lines(path, what="template CSV", min_rows=2)
+    header, data, lines = read_csv_lines(path, what="template CSV", min_rows=2,
+                                         max_bytes=MAX_TEMPLATE_BYTES)
     cols = [c for c in header if c != "t"]
     if sorted(cols) != sorted(names):
         raise FileFormatError(f"{path}: template columns {','.join(cols)} do not match the "
@@ -262,11 +265,12 @@ class ActionsFile:
         if not self.path.is_file():
             return
         try:   # a syntax error in one line naming its place (it printed PyYAML's four)
-            self._data = parse_yaml(self.path.read_text(encoding="utf-8"), self.path, MopError,
+            text = read_text_within(self.path, MAX_DESCRIPTION_BYTES, LIBRARY_FILE, MopError)
+            self._data = parse_yaml(text, self.path, MopError,
                                     "cannot read the action library: YAML syntax error")
         except MopError as exc:
             self._error = str(exc)
-        except (OSError, UnicodeDecodeError) as exc:
+        except (OSError, UnreadableText) as exc:
             self._error = f"{self.path}: cannot read the action library: {exc}"
 
     def entries(self) -> list[dict[str, str]]:

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Union
 
 from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig
-from tabletop.files import json_loads
+from tabletop.files import MAX_CLIP_BYTES, UnreadableText, json_loads, read_text_within
 from tabletop.plugins.mop_files import MopError
 
 #: The creature's point its face rides on in a hybrid character (its nose).
@@ -24,8 +24,9 @@ def make_rig(c: dict) -> Rig:
     if c["kind"] == "sprite":
         from behaviors.mop.puppetry import sprite_sheet_from_mapping
         try:
-            data = json_loads(Path(c["sheet"]).read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            data = json_loads(read_text_within(Path(c["sheet"]), MAX_CLIP_BYTES, "sprite sheet",
+                                               MopError))
+        except (OSError, UnreadableText, json.JSONDecodeError) as exc:
             raise MopError(f"{c['sheet']}: cannot read sprite sheet: {exc}") from None
         return sprite_sheet_from_mapping(data, str(c["sheet"]))
     if c["kind"] == "creature":

@@ -128,7 +128,7 @@ SCHEMA = Record({
     "main": MainBinding(),
     "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60], min_len=3,
                     max_len=3, doc="RGB"),
-    "size": Number(0.08, lo=0.005, hi=2.0, doc="body length, metres"),
+    "size": Number(0.08, unit="metres", lo=0.005, hi=2.0, doc="body length, metres"),
     "keep_apart": Bool(True, doc="keep at least the body sizes away from other reactors"),
     "rate_hz": Optional_(Number(lo=5.0, hi=400.0),
                          doc="generation rate (default: the behaviour's)"),

@@ -12,7 +12,7 @@ from typing import Callable
 
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
-from tabletop.files import read_csv
+from tabletop.files import MAX_TEMPLATE_BYTES, read_csv
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
 
@@ -88,8 +88,8 @@ class ScriptedSource:
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
     performers = {}
     for k, p in enumerate(options["performers"]):
-        gestures = [read_csv(g, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2)
-                    for g in p["gestures"]]
+        gestures = [read_csv(g, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
+                             max_bytes=MAX_TEMPLATE_BYTES) for g in p["gestures"]]
         arrays = [data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
                   for cols, data in gestures]
         performers[p["puck"]] = GesturePerformer(arrays, tuple(p["home"]),

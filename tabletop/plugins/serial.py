@@ -83,7 +83,8 @@ def url_protocols() -> list[str]:
 
 SCHEMA = Record({
     "port": Port(),
-    "baudrate": Number(115200, integer=True, lo=50, hi=12_000_000, doc="bits per second"),
+    "baudrate": Number(115200, integer=True, unit="bits per second",
+                       lo=50, hi=12_000_000, doc="bits per second"),
     "timeout_s": Number(0.5, lo=0.01, hi=600.0,
                         doc="a puck, touch or stream not repeated this long leaves the bus"),
     "retry_max_s": Number(8.0, lo=0.1, hi=600.0, doc="longest wait between reconnections"),

@@ -52,10 +52,11 @@ def _check_view(options: dict, path: str, ctx: Context) -> None:
 
 SCHEMA = Record({
     "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
-    "height": Number(0.3, lo=0.05, hi=3.0, doc="metres tall on the table"),
+    "height": Number(0.3, unit="metres", lo=0.05, hi=3.0, doc="metres tall on the table"),
     "view": ListOf(Number(), default=[0.0, 15.0], min_len=2, max_len=2,
                    doc="[azimuth, elevation] degrees"),
-    "reach": Number(0.04, lo=0.005, hi=0.5, doc="metres from a part within which a touch picks it"),
+    "reach": Number(0.04, unit="metres",
+                    lo=0.005, hi=0.5, doc="metres from a part within which a touch picks it"),
     "physics": Bool(True, doc="physics-based secondary motion"),
     "mouse": Bool(True, doc="take the view's mouse fingers too"),
     "color": ListOf(Number(integer=True, lo=0, hi=255), default=[120, 220, 255], min_len=3,

@@ -50,7 +50,7 @@ def _check_puck_ids(section: dict, path: str, ctx: Context) -> None:
 SCHEMA = Record({
     # Markers
     "dictionary": DictionaryName("DICT_4X4_50", doc="marker dictionary printed on the pucks"),
-    "marker_size": Number(0.05, lo=0.005, hi=1.0,
+    "marker_size": Number(0.05, unit="metres", lo=0.005, hi=1.0,
                           doc="printed marker side including its black border, metres"),
     "puck_ids": MapOf(Number(integer=True, lo=0, hi=1_000_000), default={},
                       doc="marker id -> puck id, for pucks whose marker id differs from the id "
@@ -93,10 +93,12 @@ SCHEMA = Record({
                                    "code, detecting only the markers that fail"),
     # Jitter filter (One Euro), in table units
     "smooth": Bool(True, doc="apply the One Euro filter to the poses engines use"),
-    "min_cutoff": Number(0.2, lo=0.001, hi=100.0, doc="One Euro minimum cutoff, Hz"),
+    "min_cutoff": Number(0.2, unit="Hz", lo=0.001, hi=100.0, doc="One Euro minimum cutoff, Hz"),
     "beta": Number(40.0, lo=0.0, hi=10000.0, doc="One Euro speed coefficient, Hz per m/s"),
-    "d_cutoff": Number(0.5, lo=0.001, hi=100.0, doc="One Euro speed low-pass cutoff, Hz"),
-    "angle_min_cutoff": Number(0.3, lo=0.001, hi=100.0, doc="heading: minimum cutoff, Hz"),
+    "d_cutoff": Number(0.5, unit="Hz",
+                       lo=0.001, hi=100.0, doc="One Euro speed low-pass cutoff, Hz"),
+    "angle_min_cutoff": Number(0.3, unit="Hz",
+                               lo=0.001, hi=100.0, doc="heading: minimum cutoff, Hz"),
     "angle_beta": Number(2.0, lo=0.0, hi=10000.0, doc="heading: Hz per rad/s"),
     # Occlusion and outliers
     "coast_s": Number(0.5, lo=0.0, hi=60.0,
@@ -110,7 +112,8 @@ SCHEMA = Record({
     "gate_m": Number(0.06, lo=0.001, hi=10.0,
                      doc="a reading farther than this (plus max_speed times the time since "
                          "the puck was seen) from its prediction is an outlier"),
-    "max_speed": Number(3.0, lo=0.0, hi=100.0, doc="fastest plausible puck, m/s"),
+    "max_speed": Number(3.0, unit="metres per second",
+                        lo=0.0, hi=100.0, doc="fastest plausible puck, m/s"),
     "confirm_frames": Number(2, integer=True, lo=1, hi=100,
                              doc="consecutive far readings at one place that move the puck"),
     "velocity_cutoff_hz": Number(5.0, lo=0.01, hi=1000.0,

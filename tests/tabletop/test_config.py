@@ -124,7 +124,8 @@ def test_list_lengths_and_kinds_said_as_they_are(tmp_path):
     assert ("sources: missing; expected a list (at least 1 item) of a source mapping with "
             "'kind' (camera, osc, scripted, serial, synthetic_camera)") in msg
     msg = error_of(tmp_path, GOOD + "view: {size: [640]}\n")
-    assert "view.size: expected a list (2 items) of an integer in [64, 8192], got 1 item" in msg
+    assert ("view.size: expected a list (2 items) of an integer number of pixels in [64, 8192], "
+            "got 1 item") in msg
 
 
 def test_an_exponent_without_a_point_says_how_to_write_it(tmp_path):
@@ -202,6 +203,27 @@ def test_a_time_given_in_milliseconds_is_refused_saying_seconds(shipped, where, 
     assert msg.endswith(f"got {float(value)} (out of range; milliseconds given?)"), msg
     assert "\n" not in msg
     assert "milliseconds" not in _set(shipped, where, -1.0)   # too small: no such question
+
+
+@pytest.mark.parametrize("where, value, said", [
+    (("kiosk", "stall_s"), 30000, "kiosk.stall_s: expected a number of seconds in [0.5, 600.0], "
+     "got 30000.0 (out of range; milliseconds given?)"),
+    (("kiosk", "stall_s"), 1e7, "kiosk.stall_s: expected a number of seconds in [0.5, 600.0], "
+     "got 10000000.0 (out of range)"),   # a thousandth is still too long: not milliseconds
+    (("table", "width"), 1200, "table.width: expected a number of metres in [0.05, 20.0], "
+     "got 1200.0 (out of range; millimetres given?)"),
+    (("loop", "rate_hz"), 5000, "loop.rate_hz: expected a number of Hz in [1.0, 1000.0], "
+     "got 5000.0 (out of range)"),
+    (("sources", 0, "tilt_deg"), 90, "sources[0].tilt_deg: expected a number of degrees in "
+     "[0.0, 40.0], got 90.0 (out of range)"),
+    (("sources", 0, "resolution"), [10, 10], "sources[0].resolution[0]: expected an integer "
+     "number of pixels in [64, 7680], got 10 (out of range)"),
+])
+def test_a_bounded_value_with_a_unit_is_refused_naming_its_unit(where, value, said):
+    """stall_s, table.width, tilt_deg ... refused a value as "a number in [0.5, 600.0]": the
+    unit (in the key's name or only in its documentation) is said, and a value a thousand
+    times too large in seconds or metres is asked about as milliseconds or millimetres."""
+    assert _set("config.yaml", where, value) == f"config.yaml: {said}"
 
 
 def test_a_config_over_a_megabyte_is_refused_before_it_is_parsed(tmp_path):

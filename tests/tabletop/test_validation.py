@@ -501,8 +501,8 @@ def test_an_empty_value_is_said_to_be_empty(tmp_path, capfd):
     # (it said "got nothing (null) None")
     code, err = run_config(tmp_path, BASE + "table:\n  width:\n", capfd)
     assert code == 2 and one_line(err).endswith(
-        "kiosk.yaml: table.width: expected a number in [0.05, 20.0], got nothing (an empty "
-        "value, or null)")
+        "kiosk.yaml: table.width: expected a number of metres in [0.05, 20.0], got nothing (an "
+        "empty value, or null)")
 
 
 def test_a_library_file_given_as_the_config_says_what_it_is(tmp_path, capfd):
