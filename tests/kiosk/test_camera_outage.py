@@ -41,8 +41,9 @@ def _wakes(stop: threading.Event, every_s: float = 0.01) -> list[float]:
 
 
 def _largest_gap(times: list[float], start: float, end: float) -> float:
-    inside = [t for t in times if start <= t < end]
-    return max((b - a for a, b in zip(inside, inside[1:])), default=end - start)
+    """The longest time from ``start`` to ``end`` (monotonic s) with none of ``times``."""
+    edges = [start, *(t for t in times if start <= t < end), end]
+    return max(b - a for a, b in zip(edges, edges[1:]))
 
 
 def test_camera_lost_for_five_seconds(tmp_path):
@@ -98,13 +99,13 @@ def test_camera_lost_for_five_seconds(tmp_path):
         done.set()
         th.join(10)
     during = [r for r in sink.rows if t_unplug <= r[0] < t_back]
-    # frames kept coming through the outage (30 Hz: ~150 in 5 s; a loaded machine skips some)
-    assert len(during) > 75
-    # No wait of the camera's (its reopening: 0.5 to 1 s back-offs, on its own thread) holds
-    # the loop: its longest gap between frames stays under 0.5 s, beyond the longest time the
-    # process itself stood still (a 0.517 s gap under a load of 12 on 2 cores; 40-70 ms with
-    # six busy loops, 37 ms idle). A loop waiting out a back-off sleeps with the interpreter
-    # free, so the waking thread shows no such stall to excuse it.
+    # Frames kept coming through the outage, not counted against the 30 Hz rate (a loaded
+    # machine skips ticks): no wait of the camera's (its reopening: 0.5 to 1 s back-offs, on
+    # its own thread) holds the loop: its longest time without a frame (from the unplugging to
+    # the return) stays under 0.5 s, beyond the longest time the process itself stood still
+    # (a 0.517 s gap under a load of 12 on 2 cores; 40-70 ms with six busy loops, 37 ms idle).
+    # A loop waiting out a back-off sleeps with the interpreter free, so the waking thread
+    # shows no such stall to excuse it.
     stalled = _largest_gap(wakes, t_unplug, t_back)
     assert _largest_gap([r[0] for r in during], t_unplug, t_back) < 0.5 + stalled
     waiting = [r for r in during if r[1] == "one_moment"]
