@@ -306,8 +306,9 @@ def test_a_held_tuio_state_is_not_counted_as_capture_to_render_latency():
         assert sent(src, 1)
         loop.run(seconds=1.0)                          # held after the first 0.1 s
         ages = list(stats.samples.get("capture_age", ()))
-        assert stats.ticks > 30 and len(ages) <= 0.2 * stats.ticks, (len(ages), stats.ticks)
-        assert all(a < HOLD_S for a in ages), ages
+        # one capture, so one age at most (none if the first tick came after HOLD_S), however
+        # few ticks a loaded machine runs past the HOLD_S
+        assert len(ages) <= 1 and stats.ticks >= 2, (ages, stats.ticks)
     finally:
         src.close()
 

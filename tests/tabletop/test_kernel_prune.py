@@ -56,5 +56,6 @@ def test_a_kernel_made_marks_its_cache_folder_used(tmp_path, monkeypatch):
     def twice(x):
         return 2.0 * x
 
+    before = time.time()
     kernel_cache.compiled()(twice)
-    assert time.time() - folder.stat().st_mtime < 60
+    assert folder.stat().st_mtime >= before - 1.0   # (a file system's coarser clock)
