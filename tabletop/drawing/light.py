@@ -14,6 +14,7 @@ from tabletop.drawing.characters import Pose
 from tabletop.drawing.palette import Color, vivid
 
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
+HINT_SHOWN = 0.03        # a hinted pose is drawn while its strength (0..1) is above this
 
 
 def hinted_pose(pose: Pose, color: Color, hint: float) -> Pose:
