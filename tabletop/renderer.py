@@ -19,7 +19,7 @@ from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # n
 from tabletop.drawing import panel_room, see_through  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
-from tabletop.drawing.light import AddedLight, as_points, hinted_pose  # noqa: E402
+from tabletop.drawing.light import HINT_SHOWN, AddedLight, as_points, hinted_pose  # noqa: E402
 from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
@@ -286,7 +286,7 @@ class Renderer:
             return None
         if c.points is not None and len(c.points):
             hinted = hint = None
-            if pr.hint > 0.03 and pr.hint_points is not None \
+            if pr.hint > HINT_SHOWN and pr.hint_points is not None \
                     and len(pr.hint_points) == len(c.points):
                 # early feedback: the suspected action's pose, a faint light of the
                 # character's own (lively) colour, casting no glow

@@ -29,6 +29,7 @@ import pygame  # noqa: E402
 
 from calibration.transforms import apply_homography  # noqa: E402
 from tabletop.drawing import screens  # noqa: E402
+from tabletop.drawing.light import HINT_SHOWN  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
 from tabletop.frames import Frame, InputError  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
@@ -66,9 +67,25 @@ def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
     return lines
 
 
-def character_lines(frame: Frame) -> list[str]:
-    """The overlay's lines of the characters' status (:attr:`CharacterState.label`)."""
-    return [f"{c.name}: {c.label}" for c in frame.characters if c.label]
+def character_lines(frame: Frame, likely: dict[str, str] | None = None) -> list[str]:
+    """The overlay's lines of the characters' status (:attr:`CharacterState.label`); one not
+    acting whose suspected action ``likely`` names (its hinted pose shown) adds it."""
+    likely = likely or {}
+    return [f"{c.name}: {c.label}" + (f"   likely: {likely[c.name]}"
+                                      if not c.valid and c.name in likely else "")
+            for c in frame.characters if c.label]
+
+
+def suspected(frame: Frame, presences: dict) -> dict[str, str]:
+    """Each character's suspected action (its likeliest hint's) while the view shows its
+    hinted pose (``presences``: the renderer's, :class:`tabletop.drawing.life.Presence`) and
+    it acts on nothing."""
+    out = {}
+    for c in frame.characters:
+        pr = presences.get(c.name)
+        if not c.valid and c.hints and pr is not None and pr.hint > HINT_SHOWN:
+            out[c.name] = c.hints[0][0]
+    return out
 
 
 _FIGURES = re.compile(r"[-+]?\d[\d.,:]*")
@@ -208,6 +225,7 @@ class ProjectorView:
         self._head: list[str] = []      # ... rate, stage figures, sources (refreshed)
         self._notes: list[str] = []     # ... the notices' (refreshed)
         self._told: tuple = ()          # what its characters' lines say (:func:`told`)
+        self._likely: dict[str, str] = {}   # ... and their hints' actions (:func:`suspected`)
         self._overlay_t = -math.inf
         self._refresh: Iterator[None] | None = None   # the overlay's refresh in progress
         self.snapshots: Snapshots | None = None
@@ -259,9 +277,17 @@ class ProjectorView:
             # action began or ended) and at each refresh: read from the refresh's first
             # frame, they showed "no action" for up to 16 frames over a figure already
             # acting (a MOP action's start, 60 Hz). Their figures wait for the refresh.
+            # A hint's action (MOP's suspected one) changes in about a frame in six: the
+            # lines name it as it was at the refresh, and a line whose words change drops it.
             said = told(frame)
+            if self._overlay is None:
+                self._likely = suspected(frame, self.renderer.lives.presences)
+            elif said != self._told:
+                now = {entry[0]: entry for entry in said}
+                kept = {entry[0] for entry in self._told if now.get(entry[0]) == entry}
+                self._likely = {n: a for n, a in self._likely.items() if n in kept}
             if self._overlay is None or said != self._told:
-                self._overlay = self._head + character_lines(frame) + self._notes
+                self._overlay = self._head + character_lines(frame, self._likely) + self._notes
                 self._told = said
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)

@@ -72,7 +72,10 @@ def inks(color: Color, alpha: float, ground: Color = TABLE) -> tuple[int, ...]:
     """A character's colours at opacity ``alpha`` over ``ground`` (the table), packed 0xRRGGBB
     as the compiled drawing takes them (remembered: the same few recur frame after frame): its
     body shaded by 0.62, 0.68, 0.7 and 0.72 and whole, lightened by 0.18 and 0.35, eye white
-    and ink."""
+    and ink. Over black (a pose drawn as light to add onto the view, :mod:`light`) the eyes
+    are of the body's own light, its white the lightest and its pupils the body: an eye white
+    faded toward black was light, but a pupil of ink was none, a dark hole in the faint figure.
+    """
     key = (color, alpha, ground)
     try:
         return _inks[key]
@@ -83,8 +86,9 @@ def inks(color: Color, alpha: float, ground: Color = TABLE) -> tuple[int, ...]:
         if key in _inks:
             return _inks[key]
     c, g = key[0], key[2]
+    eyes = (lighten(c, 0.35), c) if g == (0, 0, 0) else (EYE_WHITE, INK)
     out = tuple(rgb(fade(shade(c, k), alpha, g)) for k in (0.62, 0.68, 0.7, 0.72, 1.0)) + tuple(
-        rgb(fade(x, alpha, g)) for x in (lighten(c, 0.18), lighten(c, 0.35), EYE_WHITE, INK))
+        rgb(fade(x, alpha, g)) for x in (lighten(c, 0.18), lighten(c, 0.35), *eyes))
     return remember(_inks, key, out, 4096)
 
 

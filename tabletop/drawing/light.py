@@ -11,17 +11,22 @@ import numpy as np
 import pygame
 
 from tabletop.drawing.characters import Pose
-from tabletop.drawing.palette import Color, lighten, vivid
+from tabletop.drawing.palette import Color, vivid
 
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
+HINT_SHOWN = 0.03        # a hinted pose is drawn while its strength (0..1) is above this
 
 
 def hinted_pose(pose: Pose, color: Color, hint: float) -> Pose:
     """The faint pose of a character's suspected action: ``pose`` at :data:`HINT_ALPHA` times
-    the ``hint``'s strength (0..1), in the character's ``color`` made lively and lighter,
-    casting no glow, faded toward black (it is added as light, :class:`AddedLight`)."""
+    the ``hint``'s strength (0..1), in the character's ``color`` at full value and saturation
+    0.8, casting no glow, faded toward black (it is added as light, :class:`AddedLight`).
+    Lightened toward white instead, a faint pose added onto the navy table read grey for the
+    warm and pale characters (the bird's: CIELAB chroma 1.8, its hue 72 degrees off); saturated
+    its hue stays within 24 degrees of the character's and it is fainter than the character
+    acting (luminance 2.0 to 2.8 times lower at probability 1, 1.6 before)."""
     return dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * hint, light=0.0,
-                               color=lighten(vivid(tuple(color)), 0.3), ground=(0, 0, 0))
+                               color=vivid(tuple(color), 1.0, 0.8, 0.8), ground=(0, 0, 0))
 
 
 def as_points(hint: tuple[Pose, np.ndarray] | None) -> tuple[Pose, np.ndarray] | None:
