@@ -134,7 +134,13 @@ class StepSenses:
         length, _main_stands' k3) 85 (3) p 6 (5) / 138 (13) p 32 (19) / 152 (10) p 16 (10) /
         191 (6) p 31 (20). None is no worse on every set: the cap at the pace wins the chase
         on every set but loses the open paths' still pace; looser caps keep the open paths
-        and lose the chase. Not kept."""
+        and lose the chase. Not kept. Traced on three open paths the pace cap loses (seeds 42
+        loops, 129 loops, 131 slow): beside the still main it goes where its designer does
+        (here 0.277 / 0.257 / 0.252 -> 0.217 / 0.218 / 0.150 m/s, designer 0.13 / 0.11 /
+        0.07), but its pace beside the walking main rises (0.266 / 0.279 / 0.268 -> 0.347 /
+        0.302 / 0.316, designer 0.177 / 0.155 / 0.089; its moments 0.27-0.32). Its walking
+        pace is 1.5-3 x its designer's there, and the ratio had been met only because both
+        paces were too fast."""
         b, recent = self.behavior, self._main_recent
         return (b.personal_space > 0.0 and not b.walks_with_main and not b.walked[target]
                 and len(recent) == recent.maxlen and self._main_stands(mx, my))
