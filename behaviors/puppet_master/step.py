@@ -207,7 +207,7 @@ class GenerationStep(StepDetail):
                     # lost 3 of 48 against the chasing visitor; also in charges 621 / 107;
                     # only past 90 degrees 633 / 101; for every target 619 / 96
                     cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
-                most = math.inf
+                most = math.inf    # uncapped at the afraid one's stood place (StepSenses)
                 if b.own_steps[target][0] >= FOLLOW_SHARE:
                     most = b.span_step[target]
                 elif self._charge_end < 0 and b.keeps_pace:
