@@ -27,7 +27,9 @@ REVERSAL_BEHIND = 6
 #: .8744 -> .9022 / .8750 / .9057 / .8887 / .8897 / .8748; 8 -> .9014 / .8823 / .9057 / .8887 /
 #: .8892 / .8830; 9 -> .9014 / .8823 / .9057 / .8887 / .8842 / .8783; 107-112 at 7 mean .8746 ->
 #: .8777, at 8 .8810 (none lower). But ``bench/follow_quality.py`` at 7: tuned sized 0.7-1.4x
-#: valid after 30% .9117 -> .9071, recognised at 60% .98 -> .97 (after a gesture .0632 -> .0598).
+#: valid after 30% .9117 -> .9071, recognised at 60% .98 -> .97 (after a gesture .0632 -> .0598):
+#: the tuned 0.7x line .067 -> .133, but a 1x crawl wrist .99 -> .46, sized 1.0 -> 1.18 at a
+#: pause by a turn 7 states ahead, then misshaped. Untried: the farther state sizing smaller only.
 REVERSAL_AHEAD = 6
 
 
