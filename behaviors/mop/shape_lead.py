@@ -32,6 +32,12 @@ still shares some shape), rivals down to 0.02 (the square falls below it while t
 the line still drove 12 ticks of a square), a forgetting of the shape sums (0.95 per sample:
 0.883); a separate 2-tick confirmation when ``best`` switches (no effect once the lead is
 required).
+A line drawn 0.7x is the square's first side at 1x: its outward stroke lies within 2.1 mm of
+the square's path up to 0.44 of the line, 5.3 mm at 0.47 (past the corner). Held-out seeds 101
+and 103 (``bench/follow_seeds.py --sections=sized``), the line best from 0.31 of it, its size
+still 0.96: the square (size 0.99, 0.28-0.37 of it) fits the shape better by 18 nats and keeps it
+from driving until its probability falls under :data:`RIVAL_PROBABILITY` at 0.45-0.46 of the line
+(valid from 0.47). Those 10-12 ticks are the stroke no rule can tell from the square's.
 
 Committed to by shape (:meth:`_committed`): the evidence lags the shape where a narrower template
 predicts the stroke more sharply. On the circle's start, once covered (0.22-0.23 of it), its shape
