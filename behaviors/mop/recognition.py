@@ -197,7 +197,7 @@ class Recognition:
         # Jacobian also makes a true narrow gesture best early. a=0.5: runs 4/4/7/2/2/4
         # 3/6/4/3/5/3, within 20% 104 -> 0.3438, 110 0.4062 -> 0.4375; sized mean 0.8809 (worst
         # 0.8653 -> 0.8626), unrelated mean 0.0109 -> 0.0122, bent 5% -> 0.8438. Switching only
-        # when the new top leads on both (a=1): no figure moved. a=1 only once a gesture ended
+        # when the new top leads on both (a=1): no sequences figure moved. a=1 once a gesture ended
         # (after _restart_here): runs 4/3/7/2/2/3 3/6/4/2/2/2, within 20% unchanged, sized
         # 101-106 still lower on every seed (0.9022 -> 0.8984 on 101), unrelated 104 0.1112 ->
         # 0.1135.
