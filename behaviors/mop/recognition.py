@@ -187,6 +187,20 @@ class Recognition:
         rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
+        # best is chosen on the evidence, the narrow templates' Jacobian included. Measured and
+        # not kept: best chosen (and switched, on the margin) on the evidence plus a * jacobian *
+        # its decayed sample weight, the evidence, probabilities and validity left as they are.
+        # follow_seeds.py (101-112) twenty longest wrong run 4/5/7/2/2/4 3/6/4/4/5/4 -> (a=1)
+        # 4/3/6/2/2/3 3/5/4/2/2/2, within 20% 104 0.3125 -> 0.3438; but sized valid after 30%
+        # worse on every seed (mean 0.8815 -> 0.8703; follow_quality held-out 0.9022 -> 0.8946,
+        # under its 0.9), bent 5% 0.8646 -> 0.8374, held-out aspect 1.1 0.8674 -> 0.8320: the
+        # Jacobian also makes a true narrow gesture best early. a=0.5: runs 4/4/7/2/2/4
+        # 3/6/4/3/5/3, within 20% 104 -> 0.3438, 110 0.4062 -> 0.4375; sized mean 0.8809 (worst
+        # 0.8653 -> 0.8626), unrelated mean 0.0109 -> 0.0122, bent 5% -> 0.8438. Switching only
+        # when the new top leads on both (a=1): no sequences figure moved. a=1 once a gesture ended
+        # (after _restart_here): runs 4/3/7/2/2/3 3/6/4/2/2/2, within 20% unchanged, sized
+        # 101-106 still lower on every seed (0.9022 -> 0.8984 on 101), unrelated 104 0.1112 ->
+        # 0.1135.
         if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
                 or self._refused[self._best]):
             self._best = top
