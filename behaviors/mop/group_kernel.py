@@ -33,7 +33,7 @@ from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG
-from behaviors.mop.reversal import input_reversal, reversal_size
+from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
@@ -215,6 +215,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 for c in range(d):
                     hq[c] = rrow[rel0 + c]
                 sr = reversal_size(hq, tr, lo, hi, reversal_tol[k])
+                if reversal_at[gs] - gi > REVERSAL_LARGER_AHEAD and sr >= size[k]:
+                    sr = 0.0   # a landmark beyond it sizes smaller only
                 if sr > 0.0:
                     num[k] = sr * (den[k] + t[2]) - t[2]
             if scaled:   # PerformanceFrame._estimate_size

@@ -150,8 +150,8 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.hmm import TemplateBank
-from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_MOVE, input_reversal, reversal_map,
-                                    reversal_size)
+from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_LARGER_AHEAD, REVERSAL_MOVE,
+                                    input_reversal, reversal_map, reversal_size)
 from behaviors.mop.size_probe import PROBE_FLOOR, probe_allowed, take_probe
 
 INVARIANCES = ("scale", "offset", "none")
@@ -343,6 +343,8 @@ class PerformanceFrame:
             if k == self._acquired and self._recent_dist2(k) > self._accept2:   # strained
                 continue
             s = reversal_size(self._rel[at[k]], r, lo, hi, float(self._reversal_tol[k]))
+            if at[k] - gi[k] > REVERSAL_LARGER_AHEAD and s >= self._size[k]:   # smaller only
+                continue
             if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
                 self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
 

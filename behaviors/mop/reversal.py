@@ -29,18 +29,17 @@ REVERSAL_MOVE = 2.0
 #: (:data:`REVERSAL_MOVE`) of the anchor .9022 .8755 .9029 .8871 .8860 .8840 / .9020 .8738
 #: .8988 .8855 .8847 .8758.
 REVERSAL_BEHIND = 6
-#: Measured and not kept, 7-9 ahead: a line drawn 0.7x, followed at size 1, turns back 6.5 states
-#: short of its turn (state 23 of 46), its return then followed backwards. Gestures and the
-#: held-out cartwheel ankle, seeds 0-7, the 0.7x line valid after 30% .121 -> .377 at 7 (.09 /
-#: .13 / .13 / .10 -> .43 / .30 / .63 / .10 on 0-3), all held-out templates .313 -> .527.
-#: ``bench/follow_seeds.py --sections=sized``, 101-106: 7 .9022 / .8749 / .9057 / .8871 / .8860 /
-#: .8744 -> .9022 / .8750 / .9057 / .8887 / .8897 / .8748; 8 -> .9014 / .8823 / .9057 / .8887 /
-#: .8892 / .8830; 9 -> .9014 / .8823 / .9057 / .8887 / .8842 / .8783; 107-112 at 7 mean .8746 ->
-#: .8777, at 8 .8810 (none lower). But ``bench/follow_quality.py`` at 7: tuned sized 0.7-1.4x
-#: valid after 30% .9117 -> .9071, recognised at 60% .98 -> .97 (after a gesture .0632 -> .0598):
-#: the tuned 0.7x line .067 -> .133, but a 1x crawl wrist .99 -> .46, sized 1.0 -> 1.18 at a
-#: pause by a turn 7 states ahead, then misshaped. Untried: the farther state sizing smaller only.
-REVERSAL_AHEAD = 6
+#: A line drawn 0.7x, followed at size 1, turns back 6.5 states short of its turn (state 23 of
+#: 46); at 6 ahead its return was then followed backwards. Measured and not kept, 8-9 ahead
+#: (``bench/follow_seeds.py --sections=sized``, 101-106, before .9022 / .8749 / .9057 / .8871 /
+#: .8860 / .8744): 8 -> .9014 / .8823 / .9057 / .8887 / .8892 / .8830; 9 -> .9014 / .8823 /
+#: .9057 / .8887 / .8842 / .8783; and ``bench/follow_quality.py`` at 7 or 8 with every landmark
+#: sizing either way: tuned sized 0.7-1.4x valid after 30% .9117 -> .9071 (a 1x crawl wrist
+#: .99 -> .46, sized 1.0 -> 1.18 at a pause by a turn 7 states ahead, then misshaped).
+REVERSAL_AHEAD = 7
+#: A landmark farther ahead of the followed state than this sizes its template smaller only:
+#: the farther reach is for an input drawn smaller than the estimate.
+REVERSAL_LARGER_AHEAD = 6
 
 
 def reversal_map(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ import numpy as np
 
 from bench.follow_quality import puck_follower, run, true_metrics
 from bench.motions import mocap_templates, performance
-from behaviors.mop import invariance, shape_lead
+from behaviors.mop import invariance, reversal, shape_lead
 from behaviors.mop.group import FollowerGroup
 from tests.mop.test_group import _step_both
 
@@ -30,6 +30,24 @@ def test_a_smaller_gesture_whose_first_stroke_is_straight_is_sized_where_it_turn
                                                    0.7) for seed in range(4))]
     on, off = np.mean(shares[now]), np.mean(shares[0.0])
     assert on >= 0.65 and on >= off + 0.3, shares
+
+
+def test_a_smaller_line_is_sized_at_its_turn_from_7_states_short_of_it(gestures, monkeypatch):
+    # a line drawn 0.7x, followed at size 1, turns back 6.5 states short of its turn (state 23
+    # of 46): with the turn only 6 states ahead (reversal.REVERSAL_AHEAD) no size was taken and
+    # its return was followed backwards. Measured valid after 30% (seeds 0-3, with a held-out
+    # ankle): 0.43 / 0.30 / 0.63 / 0.10 with 7 ahead, 0.09 / 0.13 / 0.13 / 0.10 with 6
+    templates = {**gestures, **mocap_templates(joints=(("cartwheel", "right_ankle"),))}
+    f = puck_follower(templates)
+    draws = [performance(np.random.default_rng(seed), templates["line"], 0.7) for seed in range(4)]
+    shares = {}
+    for ahead in ("kept", 6):
+        if ahead != "kept":
+            monkeypatch.setattr(reversal, "REVERSAL_AHEAD", ahead)
+            f._reversal_at = reversal.reversal_map(f._rel, f.bank.starts, f.bank.lengths)
+        shares[ahead] = [true_metrics(run(f, x), "line", prog)["valid_after30"]
+                         for x, prog in draws]
+    assert np.mean(shares["kept"]) >= 0.3 and np.mean(shares[6]) <= 0.15, shares
 
 
 def test_a_group_takes_the_reversal_sizes_as_its_followers_alone(gestures, monkeypatch):
