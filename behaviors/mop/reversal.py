@@ -30,12 +30,16 @@ REVERSAL_MOVE = 2.0
 #: .8988 .8855 .8847 .8758.
 REVERSAL_BEHIND = 6
 #: A line drawn 0.7x, followed at size 1, turns back 6.5 states short of its turn (state 23 of
-#: 46); at 6 ahead its return was then followed backwards. Measured and not kept, 8-9 ahead
-#: (``bench/follow_seeds.py --sections=sized``, 101-106, before .9022 / .8749 / .9057 / .8871 /
-#: .8860 / .8744): 8 -> .9014 / .8823 / .9057 / .8887 / .8892 / .8830; 9 -> .9014 / .8823 /
-#: .9057 / .8887 / .8842 / .8783; and ``bench/follow_quality.py`` at 7 or 8 with every landmark
-#: sizing either way: tuned sized 0.7-1.4x valid after 30% .9117 -> .9071 (a 1x crawl wrist
-#: .99 -> .46, sized 1.0 -> 1.18 at a pause by a turn 7 states ahead, then misshaped).
+#: 46); at 6 ahead its return was then followed backwards. Sized 0.7-1.4x valid after 30%
+#: (``bench/follow_seeds.py --sections=sized``), 6 -> 7 with :data:`REVERSAL_LARGER_AHEAD`:
+#: 101-106 .9022 / .8849 / .9057 / .8968 / .8865 / .8840 -> .9022 / .8858 / .9057 / .8990 /
+#: .8903 / .8849, 107-112 mean .8816 -> .8847 (none lower); ``bench/follow_quality.py`` tuned
+#: .9117 -> .9124, valid after a gesture .0618 -> .0584, all else the same. Without it (every
+#: landmark sizing either way, HOLD_AHEAD 6): tuned .9117 -> .9071 (a 1x crawl wrist
+#: .99 -> .46, sized 1.0 -> 1.18 at a pause by a turn 7 states ahead, then misshaped). Measured
+#: and not kept, 8-9 ahead that way (HOLD_AHEAD 6; 101-106 before .9022 / .8749 / .9057 /
+#: .8871 / .8860 / .8744): 8 -> .9014 / .8823 / .9057 / .8887 / .8892 / .8830; 9 -> .9014 /
+#: .8823 / .9057 / .8887 / .8842 / .8783.
 REVERSAL_AHEAD = 7
 #: A landmark farther ahead of the followed state than this sizes its template smaller only:
 #: the farther reach is for an input drawn smaller than the estimate.

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from bench.follow_quality import puck_follower, run, true_metrics
+from bench.follow_quality import MOCAP, puck_follower, run, true_metrics
 from bench.motions import mocap_templates, performance
 from behaviors.mop import invariance, reversal, shape_lead
 from behaviors.mop.group import FollowerGroup
@@ -66,3 +66,17 @@ def test_a_group_takes_the_reversal_sizes_as_its_followers_alone(gestures, monke
     # valid states of the two members: measured 123 of 330, 85 without the reversal's size (91
     # with the last samples' fit)
     assert _step_both(alone, group, streams) >= 110
+
+
+def test_a_group_takes_a_farther_reversal_smaller_only_as_its_followers_alone(gestures):
+    # a zigzag drawn 0.85x and a wave at 1x among the twenty templates: each takes one reversal
+    # 7 states ahead whose size is larger than the estimate, so not taken
+    # (reversal.REVERSAL_LARGER_AHEAD); the group's sizes and states are its followers' alone
+    # (their sizes part at the reversal when only the followers keep the rule)
+    templates = {**gestures, **mocap_templates(joints=MOCAP)}
+    rng = np.random.default_rng(0)
+    streams = [performance(rng, templates[n], s)[0] for n, s in (("zigzag", 0.85), ("wave", 1.0))]
+    alone = [puck_follower(templates) for _ in streams]
+    group = FollowerGroup([puck_follower(templates) for _ in streams])
+    # valid states of the two members: measured 91 of 186
+    assert _step_both(alone, group, streams) >= 80
