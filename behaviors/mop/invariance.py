@@ -74,7 +74,8 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   (:data:`~behaviors.mop.reversal.REVERSAL_LARGER_AHEAD`). A straight first stroke drawn smaller
   kept the size near 1 and stopped at the turn, where another action took over (the largest
   loss left at 0.7-1.4x). ``bench/follow_quality.py --sections=sized,unrelated`` (tuned /
-  held-out; valid after 30% at 0.7-1.4x, unrelated worst / mean): before 0.9005 / 0.9014, 0.258 / 0.0588 and 0.414 / 0.0657; kept (within
+  held-out; valid after 30% at 0.7-1.4x, unrelated worst / mean): before 0.9005 / 0.9014,
+  0.258 / 0.0588 and 0.414 / 0.0657; kept (within
   0.25 of the extent) 0.9170 / 0.9056, 0.258 / 0.0576 and 0.414 / 0.0607 (a 0.7x punch wrist
   0.03 -> 0.64, kick ankle 0.59 -> 0.86, four seeds; ``tests/mop/test_invariance.py``);
   within 0.15: 0.9170 / 0.9056, mean 0.0586 / 0.0609; 0.1: 0.9174 / 0.9056, 0.0593 / 0.0621;
