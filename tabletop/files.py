@@ -235,4 +235,3 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
     except (OSError, UnreadableText) as exc:
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)
-

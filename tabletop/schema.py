@@ -174,12 +174,13 @@ def with_unit(spec: Spec, unit: str) -> Spec:
     if isinstance(spec, Number) and not spec.unit:
         spec = copy.copy(spec)
         spec.unit = unit
-    elif isinstance(spec, Optional_) and spec.inner is not with_unit(spec.inner, unit):
-        spec = copy.copy(spec)
-        spec.inner = with_unit(spec.inner, unit)
-    elif isinstance(spec, ListOf) and spec.item is not with_unit(spec.item, unit):
-        spec = copy.copy(spec)
-        spec.item = with_unit(spec.item, unit)
+    elif isinstance(spec, (Optional_, ListOf)):
+        part = "inner" if isinstance(spec, Optional_) else "item"
+        inner = getattr(spec, part)
+        named = with_unit(inner, unit)
+        if named is not inner:
+            spec = copy.copy(spec)
+            setattr(spec, part, named)
     return spec
 
 
