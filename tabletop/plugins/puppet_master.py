@@ -275,6 +275,33 @@ def _reads_back(name: str, own: str, engines: list[dict]) -> bool:
     return False
 
 
+def _characters_of(engine: dict) -> list[str]:
+    """The names of the characters a config engine entry makes: a MOP engine's characters,
+    any other engine's own name."""
+    if engine.get("kind") == "mop":
+        return [str(c.get("name")) for c in engine.get("characters") or ()
+                if isinstance(c, dict)]
+    return [str(engine.get("name"))]
+
+
+def _no_maker(name: str, engines: list[dict]) -> str:
+    """Why ``name`` is no character: the likely one, and the characters the engines make
+    (with their engine where its own name is not theirs: a MOP engine's)."""
+    import difflib
+    groups, every = [], []
+    for e in engines:
+        engine, chars = str(e.get("name")), _characters_of(e)
+        every += chars
+        if chars == [engine]:
+            groups.append(engine)
+        elif chars:
+            groups.append(f"{', '.join(chars)} (engine {engine!r})")
+    close = difflib.get_close_matches(name, every, n=1)
+    return (f"no engine makes a character named {name!r}"
+            + (f" (did you mean {close[0]!r}?)" if close else "")
+            + f"; the characters are {', '.join(groups)}")
+
+
 def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
     """Characters this engine reads from the previous tick: Puppet Master engines listed at or
     after it, or bound back to it (a mutual pair); and of those, the ones in a cycle with it,
@@ -289,11 +316,14 @@ def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
         if name == options["name"]:     # it would chase its own last pose (nearest: always)
             raise PuppetMasterError(f"{ctx.where(options, 'main')}: character {name!r} is "
                                     "this engine's own; a reactor cannot react to itself")
-        k = names.index(name) if name in names else -1
-        other = engines[k] if k >= 0 else {}
+        made = [_characters_of(e) for e in engines]
+        k = next((i for i, chars in enumerate(made) if name in chars), -1)
+        if k < 0:
+            raise PuppetMasterError(f"{ctx.where(options, 'main')}: {_no_maker(name, engines)}")
+        other = engines[k]
         is_pm = other.get("kind") == "puppet_master"
         back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
-        if k < 0 or (k >= mine and not is_pm):
+        if k >= mine and not is_pm:
             raise PuppetMasterError(
                 f"{ctx.where(options, 'main')}: character {name!r} is not made by an engine "
                 f"listed before {options['name']!r} (a puppet_master engine may also be listed "

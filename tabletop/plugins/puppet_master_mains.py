@@ -10,7 +10,8 @@ A main binding is one of ``{puck: ID}``, ``{touch: ID}``, ``{character: NAME}``,
   counts in which situation: e.g. a visitor's puck when it is on the table, else a character).
 
 A ``character`` binding reads that character in the same tick when its engine is listed
-earlier and does not react back; otherwise (listed later, itself, or a mutual pair) it reads
+earlier and does not react back (any engine's: a MOP character counts where it stands, whether
+an action drives it or not); otherwise (listed later, itself, or a mutual pair) it reads
 the character's state of the previous tick from the :class:`Board`, so both of a mutual pair
 see each other one tick old, whatever their order, and the run stays reproducible. A
 character still waiting for its own main is absent, whatever the order, except to the
@@ -190,8 +191,10 @@ class MainReader:
                 if c is None or not (c.valid or name in self.cycle):
                     return None
                 return c.x, c.y, c.heading
-            ch = frame.character(name)
-            return None if ch is None or not ch.valid else (ch.x, ch.y, ch.heading)
+            ch = frame.character(name)    # another engine's character (a MOP one) stands
+            if ch is None or not (ch.valid or ch.kind != "reactor"):   # where it is drawn,
+                return None                                   # an action driving it or not
+            return ch.x, ch.y, ch.heading
         if kind == "touch":
             for tc in frame.touches:
                 if tc.id == m["touch"]:

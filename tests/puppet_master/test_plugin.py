@@ -11,7 +11,7 @@ from behaviors.puppet_master import designers
 from behaviors.puppet_master.behavior import Behavior, DemonstrationError
 from tabletop import library
 from tabletop.config import validate_config
-from tabletop.frames import Frame, InputError, Puck, Touch
+from tabletop.frames import CharacterState, Frame, InputError, Puck, Touch
 from tabletop.plugins import puppet_master as pm
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
@@ -187,6 +187,40 @@ def test_character_binding_must_name_a_known_engine():
                    "main": {"character": "b"}},
                   {"kind": "puppet_master", "name": "b", "behavior": "behaviors/library/lover"}])
     assert a.mains.delayed == {"b"} and b.mains.delayed == set()
+
+
+def _beside_the_mop_example(main: dict) -> tuple[dict, BuildContext]:
+    """examples/mop.yaml's config with a lover bound to ``main`` listed after its MOP engine."""
+    import yaml
+    data = yaml.safe_load((ROOT / "examples" / "mop.yaml").read_text())
+    data["engines"].append({"kind": "puppet_master", "name": "pal", "main": main,
+                            "behavior": str(SHIPPED / "lover")})
+    cfg = validate_config(data, "mop.yaml", ROOT / "examples")
+    return cfg["engines"][-1], BuildContext(table=TABLE, rate_hz=60.0, config=cfg,
+                                            base=ROOT / "examples")
+
+
+def test_a_character_of_an_engine_listed_before_is_a_main_whatever_its_engine_makes():
+    # the MOP engine listed before makes "dancer": it was refused as "not made by an engine
+    # listed before", and the MOP engine's own name, which names no character, was taken and
+    # waited for for ever ("waiting for character mop")
+    entry, ctx = _beside_the_mop_example({"character": "dancer"})
+    pal = pm.build(entry, ctx)
+    assert pal.mains.delayed == set()
+    # a MOP character is on the table where it stands, whether an action drives it or not
+    # (``valid``): the reactor waited for the dancer's first action, in the middle of the table
+    dancer = CharacterState("dancer", 0.3, 0.25, math.pi / 2, kind="skeleton", valid=False)
+    for i in range(120):
+        (state,) = pal.step(Frame(seq=i, t=i / 60.0).with_characters((dancer,)))
+    assert state.valid and math.hypot(state.x - 0.3, state.y - 0.25) < 0.3, state
+    entry, ctx = _beside_the_mop_example({"character": "mop"})
+    with pytest.raises(pm.PuppetMasterError, match=r"engines\[1\]\.main: no engine makes a "
+                       r"character named 'mop'; the characters are dancer, bird, salamander, "
+                       r"face, gecko \(engine 'mop'\), pal"):
+        pm.build(entry, ctx)
+    entry, ctx = _beside_the_mop_example({"nearest": [{"puck": 1}, {"character": "gekko"}]})
+    with pytest.raises(pm.PuppetMasterError, match=r"'gekko' \(did you mean 'gecko'\?\)"):
+        pm.build(entry, ctx)
 
 
 # -- reacting on the bus ------------------------------------------------------------------------
