@@ -42,6 +42,18 @@ def unknown_names(names: list[str], known: set[str]) -> str:
 MAX_SPAN = 10_000
 MAX_WEIGHT = 1e6
 
+#: The unit a field's refusal names ("min_speed: -1 must be >= 0 m/s"); the rest are ratios,
+#: weights and counts without one.
+UNITS = {"window": "samples", "min_speed": "m/s", "smooth": "samples",
+         "max_turn_rate": "rad/s", "patch": "steps", "detail_clip": "rad",
+         "share_window": "samples", "max_extrapolation": "s", "catch_up": "1/s",
+         "half_life": "samples", "table_width": "m", "table_height": "m"}
+
+
+def _unit(name: str) -> str:
+    """`` UNIT`` of field ``name`` for its refusal, or ""."""
+    return f" {UNITS[name]}" if name in UNITS else ""
+
 
 @dataclass(frozen=True)
 class Params:
@@ -180,14 +192,14 @@ class Params:
             v = getattr(self, name)
             if isinstance(v, (int, np.integer)) and v > MAX_SPAN:
                 raise ParameterError(f"behaviour parameter {name}: {v!r} must be an integer "
-                                     f"from {ints[name]} to {MAX_SPAN}", name)
+                                     f"from {ints[name]} to {MAX_SPAN}{_unit(name)}", name)
         for f in fields(self):
             v = getattr(self, f.name)
             if f.name in ints:
                 if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < ints[f.name]:
                     raise ParameterError(
-                        f"behaviour parameter {f.name}: {v!r} must be an integer >= {ints[f.name]}",
-                        f.name)
+                        f"behaviour parameter {f.name}: {v!r} must be an integer >= "
+                        f"{ints[f.name]}{_unit(f.name)}", f.name)
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
                     or not math.isfinite(float(v)):
@@ -208,4 +220,4 @@ class Params:
                                      f"{MAX_WEIGHT:g}", f.name)
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
-                                     f"{'> 0' if positive else '>= 0'}", f.name)
+                                     f"{'> 0' if positive else '>= 0'}{_unit(f.name)}", f.name)

@@ -197,6 +197,21 @@ def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, para
         assert w in err, err
     assert not (tmp_path / "o.csv").exists()
 
+@pytest.mark.parametrize("param, words", [
+    # a refusal names the field's unit: "min_speed: -0.01 must be >= 0" said nothing of m/s
+    ("min_speed=-0.01", "min_speed: -0.01 must be >= 0 m/s"),
+    ("max_extrapolation=-1", "max_extrapolation: -1.0 must be >= 0 s"),
+    ("detail_clip=0", "detail_clip: 0.0 must be > 0 rad"),
+    ("window=1", "window: 1 must be an integer >= 2 samples"),
+    ("smooth=20000", "smooth: 20000 must be an integer from 1 to 10000 samples"),
+])
+def test_a_refused_parameter_names_its_unit(files, tmp_path, capsys, param, words):
+    d, _ = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--param", param) == 2
+    assert words in capsys.readouterr().err
+
+
 def test_sequential_training_from_files(files, tmp_path, capsys):
     d, _ = files
     demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
