@@ -50,7 +50,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         f"{WINDOW[1]} (default 15)")
     p.add_argument("--invariance", choices=("none", "offset", "scale"), default="none",
                    help="follow a performance relative to where each gesture begins (offset), "
-                        "and of any size (scale); default none: as recorded")
+                        "and of any size (scale; puck and touch paths are followed so live); "
+                        "default none: as recorded")
 
 
 def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
