@@ -10,13 +10,14 @@ side and the front beside its distance from the start over time. Units: metres, 
 from __future__ import annotations
 
 import math
+import os
 import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tabletop.file_io import MAX_TEXT_BYTES
+from tabletop.file_io import MAX_TEXT_BYTES, too_big
 from tabletop.files import atomic_writer, json_loads
 from tabletop.frames import InputError
 
@@ -207,11 +208,11 @@ def read_session(path: Path) -> list[dict]:
         if _a_recording(f.readline(MAX_TEXT_BYTES).decode("utf-8", errors="replace")):
             raise InputError(f"{p}: a session recording (`tabletop replay` plays it), not a "
                              "studio session log")
+        size = os.fstat(f.fileno()).st_size
+        if size > MAX_TEXT_BYTES:
+            raise InputError(too_big(p, size, MAX_TEXT_BYTES, "studio session log"))
         f.seek(0)
-        data = f.read(MAX_TEXT_BYTES + 1)
-    if len(data) > MAX_TEXT_BYTES:
-        raise InputError(f"{p}: over {MAX_TEXT_BYTES // 2**20} MB, more than a studio session "
-                         "log holds (a line a try)")
+        data = f.read(MAX_TEXT_BYTES)   # (a log still growing: its last line in part)
     text = data.decode("utf-8", errors="replace")
     lines = text.splitlines()
     out = []

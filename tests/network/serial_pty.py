@@ -17,17 +17,26 @@ def open_pty():
 
 
 @contextmanager
+def a_pty():
+    """A fresh pseudo-terminal, both ends closed after: yields (master, slave, its name)."""
+    master, slave, name = open_pty()
+    try:
+        yield master, slave, name
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
+@contextmanager
 def tracked_pty(timeout_s: float):
     """A serial source on a fresh pseudo-terminal, open and healthy, with the tracker's inputs:
     yields (the terminal's master end, the source, the inputs)."""
-    master, slave, name = open_pty()
-    src = SerialInput("mcu", name, timeout_s=timeout_s)
-    inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False)))
-    src.open()
-    try:
-        assert wait_for(lambda: src.health().ok, 5.0)
-        yield master, src, inputs
-    finally:
-        src.close()
-        os.close(master)
-        os.close(slave)
+    with a_pty() as (master, _, name):
+        src = SerialInput("mcu", name, timeout_s=timeout_s)
+        inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False)))
+        src.open()
+        try:
+            assert wait_for(lambda: src.health().ok, 5.0)
+            yield master, src, inputs
+        finally:
+            src.close()

@@ -195,7 +195,7 @@ def test_review_tells_a_recording_by_its_first_line_and_refuses_what_is_no_log(t
         f.write(b'{"target": "pet", "outcome": "kept", "duration_s": 4}\n')
         f.truncate(129 * 2**20)
     assert cli(["review", str(big)]) == 2
-    assert "big.jsonl: over 128 MB, more than a studio session log holds" in \
-        capsys.readouterr().err
+    assert ("big.jsonl: 135,266,304 bytes, more than a studio session log holds (at most "
+            "134,217,728); not read") in capsys.readouterr().err
     assert cli(["review", "/dev/null"]) == 2
     assert "/dev/null: not a regular file" in capsys.readouterr().err
