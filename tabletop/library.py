@@ -34,8 +34,8 @@ from tabletop.files import (MAX_DEMONSTRATION_BYTES, MAX_DESCRIPTION_BYTES, File
                             read_text_within, read_yaml)
 from tabletop.frames import InputError
 from tabletop.swap import MARKER, locked, real, recover, recover_all, replace_folder, saving
-from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
-                             yaml_number_hint)
+from tabletop.schema import (REQUIRED, ConfigError, Context, FilePath, Number, Record, Spec,
+                             Str, yaml_number_hint)
 
 BEHAVIOR_FILE = "behavior.yaml"
 DEMONSTRATION_FILE = "demonstration.csv"
@@ -57,9 +57,10 @@ class NameTakenError(LibraryError):
 
 
 class _NumberMap(Spec):
-    """A mapping of parameter names to numbers (the trainer checks names and ranges)."""
+    """A mapping of parameter names to numbers (the trainer checks names and ranges); every
+    behavior.yaml has one (``{}``: the defaults), so a file cut short before it is refused."""
 
-    default: Any = None
+    default: Any = REQUIRED
 
     def describe(self) -> str:
         return "a mapping of parameter names to numbers"

@@ -152,11 +152,19 @@ class Number(Spec):
     def thousandths_hint(self, value: float) -> str:
         """For a value over ``hi`` that a thousandth of is in range, in seconds or metres:
         '; milliseconds given?' (or millimetres); else ''."""
-        smaller = THOUSANDTHS.get(self.unit)
-        if smaller is None or self.hi is None or value <= self.hi:
-            return ""
-        ok = (self.lo is None or value / 1000 >= self.lo) and value / 1000 <= self.hi
-        return f"; {smaller} given?" if ok else ""
+        smaller = thousandths(self.unit, self.lo, self.hi, value)
+        return f"; {smaller} given?" if smaller else ""
+
+
+def thousandths(unit: str, lo: float | None, hi: float | None, *values: float) -> str:
+    """The smaller unit ("milliseconds", "millimetres") that ``values`` of ``unit`` (seconds,
+    metres) were likely given in: one over ``hi`` and every one's thousandth in [lo, hi];
+    else ""."""
+    smaller = THOUSANDTHS.get(unit, "")
+    if not smaller or hi is None or not any(v > hi for v in values):
+        return ""
+    return smaller if all((lo is None or v / 1000 >= lo) and v / 1000 <= hi
+                          for v in values) else ""
 
 
 # the unit a key's name ends with (``stall_s``), said when its value is refused

@@ -354,6 +354,10 @@ def read_header(path: str | Path) -> dict[str, Any]:
     try:
         header = _json(p, 1, first[1])
     except SessionError as exc:
+        if first[1].startswith(b'{"format":"%s"' % FORMAT.encode()) and not \
+                first[1].endswith(b"\n"):   # (JSON's own words were "Unterminated string")
+            raise SessionError(f"{p}: line 1: its header is cut short (the recording was "
+                               "interrupted while it was written): nothing to replay") from None
         raise SessionError(f"{exc} (expected a {FORMAT} header)") from None
     if not isinstance(header, dict) or header.get("format") != FORMAT:
         if isinstance(header, dict) and {"target", "outcome"} <= header.keys():

@@ -20,7 +20,7 @@ import os
 import re
 import threading
 import time
-from typing import Any, Iterator
+from typing import Any, Iterator, Sequence
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
@@ -60,11 +60,19 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
 
 
 
-def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
+def overlay_lines(frame: Frame, stats: LoopStats | None, notes: Sequence[str] = (),
+                  likely: dict[str, str] | None = None) -> list[str]:
     """The operator overlay: rate, the parts failing at run time, per-stage milliseconds,
-    sources' health, characters' status."""
-    *_, lines = overlay_steps(frame, stats)
-    return lines
+    sources' health (:func:`overlay_steps`), then :func:`panel_tail`."""
+    *_, head = overlay_steps(frame, stats)
+    return head + panel_tail(frame, notes, likely)
+
+
+def panel_tail(frame: Frame, notes: Sequence[str] = (),
+               likely: dict[str, str] | None = None) -> list[str]:
+    """The overlay's lines after its head: the characters' status (:func:`character_lines`)
+    and the notices' lines (a refused config edit, the live check)."""
+    return character_lines(frame, likely) + list(notes)
 
 
 def character_lines(frame: Frame, likely: dict[str, str] | None = None) -> list[str]:
@@ -100,11 +108,9 @@ def told(frame: Frame) -> tuple:
                  for c in frame.characters if c.label)
 
 
-def overlay_steps(frame: Frame, stats: LoopStats | None,
-                  characters: bool = True) -> Iterator[list[str] | None]:
-    """:func:`overlay_lines` in slices, so that a view can spread the work over frames: yields
-    None after each stage's percentiles (the costly part), then the lines (the characters'
-    only with ``characters``)."""
+def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] | None]:
+    """The head of :func:`overlay_lines` in slices, so that a view can spread the work over
+    frames: yields None after each stage's percentiles (the costly part), then the lines."""
     start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
@@ -125,7 +131,7 @@ def overlay_steps(frame: Frame, stats: LoopStats | None,
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")
-    yield lines + character_lines(frame) if characters else lines
+    yield lines
 
 
 def direct_framebuffer() -> None:
@@ -262,7 +268,7 @@ class ProjectorView:
             # the next frames, so that no frame pays for all of it at once.
             now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
             if self._overlay is None:
-                *_, self._head = overlay_steps(frame, self.stats, characters=False)
+                *_, self._head = overlay_steps(frame, self.stats)
                 self._notes, self._overlay_t = [n for fn in self.notices for n in fn()], now
             elif self._refresh is None and now >= self._overlay_t + OVERLAY_REFRESH_S:
                 self._refresh, self._overlay_t = self._refreshing(frame), now
@@ -287,7 +293,7 @@ class ProjectorView:
                 kept = {entry[0] for entry in self._told if now.get(entry[0]) == entry}
                 self._likely = {n: a for n, a in self._likely.items() if n in kept}
             if self._overlay is None or said != self._told:
-                self._overlay = self._head + character_lines(frame, self._likely) + self._notes
+                self._overlay = self._head + panel_tail(frame, self._notes, self._likely)
                 self._told = said
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
@@ -305,7 +311,7 @@ class ProjectorView:
         """The overlay's next lines, step by step: each stage's percentiles, the notices, each
         changed line's text render; the lines take over when all is done."""
         lines: list[str] | None = None
-        for lines in overlay_steps(frame, self.stats, characters=False):
+        for lines in overlay_steps(frame, self.stats):
             if lines is None:
                 yield
         assert lines is not None
@@ -357,7 +363,11 @@ class ProjectorView:
             # its lines (figures of this minute) are not kept: kept, a kiosk's snapshot a
             # minute filled the overlay's line cache to 257 renders (4.5 MB) over 15 minutes,
             # cleared and filled again, the heap growing as it filled (bench/gallery_soak.py)
-            self.renderer.draw_overlay(surface, overlay_lines(frame, self.stats), keep=False)
+            # the lines the shown overlay would have: a kiosk's refused config edit is
+            # seen from afar (its notice was left out)
+            lines = overlay_lines(frame, self.stats, [n for fn in self.notices for n in fn()],
+                                  suspected(frame, self.renderer.lives.presences))
+            self.renderer.draw_overlay(surface, lines, keep=False)
         self.snapshots.save(surface)
 
     def close(self) -> None:

@@ -47,8 +47,18 @@ def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: fl
     except (TypeError, ValueError):
         raise error(f"{option} {text!r} is not {kind} ({unit})") from None
     if not math.isfinite(value) or not lo <= value <= hi or (integer and value != int(value)):
-        raise error(f"{option} {text!r} must be {kind} of {unit} from {lo:g} to {hi:g}")
+        raise error(f"{option} {text!r} must be {kind} of {unit} from {lo:g} to {hi:g}"
+                    + thousandths_hint(unit, lo, hi, value))
     return int(value) if integer else value
+
+
+def thousandths_hint(unit: str, lo: float, hi: float, *values: float) -> str:
+    """' (millimetres given?)' (or milliseconds) for ``values`` of metres (or seconds) a
+    thousand times too large, as config.yaml's values are asked (:func:`schema.thousandths`);
+    else ''."""
+    from tabletop.schema import thousandths
+    smaller = thousandths(unit, lo, hi, *values)
+    return f" ({smaller} given?)" if smaller else ""
 
 
 def output_file(path: str | Path, option: str, error: type[InputError] = InputError,

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
-                               warn_sparse_times)
+                               thousandths_hint, warn_sparse_times)
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
@@ -91,7 +91,7 @@ def check_table(what: str, *sides: float) -> None:
     lo, hi = TABLE_M
     if not all(math.isfinite(s) and lo <= s <= hi for s in sides):
         raise BehaveArgumentError(f"{what}: width and height must be metres from {lo:g} to "
-                                  f"{hi:g}")
+                                  f"{hi:g}" + thousandths_hint("metres", lo, hi, *sides))
 
 
 TABLE_PARAMS = ("table_width", "table_height")

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
-                               warn_sparse_times)
+                               thousandths_hint, warn_sparse_times)
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
@@ -150,7 +150,7 @@ def main(args: argparse.Namespace) -> int:
     lo, hi = TABLE_M
     if not (lo <= w <= hi and lo <= h <= hi):
         raise PoseArgumentError(f"--table {args.table!r}: width and height must be metres from "
-                                f"{lo:g} to {hi:g}")
+                                f"{lo:g} to {hi:g}" + thousandths_hint("metres", lo, hi, w, h))
     height = number_in_range(args.height, "--height", "metres", *HEIGHT_M, PoseArgumentError)
     if not args.describe and (not args.input or not args.out):
         raise PoseArgumentError("give --input TOUCHES.csv and --out POSES.jsonl (or --describe)")

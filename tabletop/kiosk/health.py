@@ -5,8 +5,9 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
     {"name", "host", "pid" (the installation's; null in the supervisor's "restarting" and
      "stopped"), "supervisor_pid" (the kiosk supervisor's, null when unsupervised), "version",
      "time" (UTC ISO 8601), "uptime_s", "fps", "ticks", "mode" ("live" | "attract" | "one_moment";
-     "stopped" in the file a kiosk that ended on purpose leaves; "restarting", with "crash",
-     written by the supervisor after a crash: :func:`tabletop.kiosk.crash_log.restarting_status`),
+     "stopped" in the file and last heartbeat of a kiosk that ended on purpose; "restarting",
+     with "crash", written by the supervisor after a crash:
+     :func:`tabletop.kiosk.crash_log.restarting_status`),
      "unhealthy_sources", "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink
      failures so far), "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad,
      of actions' files a character started without and of those that went bad while their action
@@ -284,8 +285,10 @@ class HealthReporter:
         still saying "live" (or "one_moment") with its pid gone would not tell a table stopped
         an hour ago from one running. A kiosk that ends before its first status
         (within its first second) writes one of its own, without sources: the file would
-        otherwise go on telling the status of the kiosk that ran before it."""
-        if self.writer is None:
+        otherwise go on telling the status of the kiosk that ran before it. The heartbeat
+        sends that status once more: a watcher (``tabletop status``) tells a kiosk stopped on
+        purpose from one gone silent (a crash, a power cut)."""
+        if self.writer is None and self.heartbeat is None:
             return
         last = self.last
         if last is None:
@@ -295,8 +298,15 @@ class HealthReporter:
                     last.update(self.extra())
                 except Exception as exc:  # (its parts may be closed by now): said without
                     log.debug("status fields at the stop not read: %s", exc)
-        text = status_text(dict(last, mode="stopped", fps=0.0, time=utc_now(),
-                                uptime_s=round(self.clock() - self.started, 3)))
+        status = dict(last, mode="stopped", fps=0.0, time=utc_now(),
+                      uptime_s=round(self.clock() - self.started, 3))
+        text = status_text(status)
+        if self.heartbeat is not None:   # (closed with the loop: a send opens it again)
+            self.heartbeat.send(self.name, status["uptime_s"], 0.0,
+                                int(status.get("unhealthy_sources") or 0), text.rstrip("\n"))
+            self.heartbeat.close()
+        if self.writer is None:
+            return
         if self.writer.last(text):       # its thread still writing: after that, in order
             self.writer.close()
             return

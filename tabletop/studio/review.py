@@ -10,13 +10,14 @@ side and the front beside its distance from the start over time. Units: metres, 
 from __future__ import annotations
 
 import math
+import os
 import re
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from tabletop.file_io import MAX_TEXT_BYTES
+from tabletop.file_io import MAX_TEXT_BYTES, too_big
 from tabletop.files import atomic_writer, json_loads
 from tabletop.frames import InputError
 
@@ -207,11 +208,11 @@ def read_session(path: Path) -> list[dict]:
         if _a_recording(f.readline(MAX_TEXT_BYTES).decode("utf-8", errors="replace")):
             raise InputError(f"{p}: a session recording (`tabletop replay` plays it), not a "
                              "studio session log")
+        size = os.fstat(f.fileno()).st_size
+        if size > MAX_TEXT_BYTES:
+            raise InputError(too_big(p, size, MAX_TEXT_BYTES, "studio session log"))
         f.seek(0)
-        data = f.read(MAX_TEXT_BYTES + 1)
-    if len(data) > MAX_TEXT_BYTES:
-        raise InputError(f"{p}: over {MAX_TEXT_BYTES // 2**20} MB, more than a studio session "
-                         "log holds (a line a try)")
+        data = f.read(MAX_TEXT_BYTES)   # (a log still growing: its last line in part)
     text = data.decode("utf-8", errors="replace")
     lines = text.splitlines()
     out = []
@@ -309,12 +310,13 @@ def caption(t: dict) -> str:
 
 
 def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
-    """Every try's review sheet (or its caption alone when it has none, or a damaged one) on
-    one PNG, ``columns`` cells 400 px wide a row under the session's name and
-    :func:`summary`; returns the summary. A cell is as tall as its caption and a sheet
-    (640 x 288 px, :data:`SHEET_ASPECT`) scaled to its width, 210 px: the 300-try sheet is
-    21,037 px tall, 8.90 MB, 4.79 s CPU (``python bench/review.py --tries=300``), where a
-    fixed cell of 360 px leaves 150 px of each blank (36,000 px, 9.35 MB, 5.12 s).
+    """Every try's review sheet (or its caption alone when it has none; one the log names
+    that is missing or damaged is said so in its place) on one PNG, ``columns`` cells 400 px
+    wide a row under the session's name and :func:`summary`; returns the summary. A cell is
+    as tall as its caption and a sheet (640 x 288 px, :data:`SHEET_ASPECT`) scaled to its
+    width, 210 px: the 300-try sheet is 21,037 px tall, 8.90 MB, 4.79 s CPU (``python
+    bench/review.py --tries=300``), where a fixed cell of 360 px leaves 150 px of each blank
+    (36,000 px, 9.35 MB, 5.12 s).
 
     The sheets are scaled into their cells and pasted as pixels (Pillow, Lanczos), and only
     the captions and the title are drawn by matplotlib, on a figure of no axes: one matplotlib
@@ -353,6 +355,11 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
         box_w, box_h = cell_w - 2 * PAD_PX, cell_h - 2 * PAD_PX - caption_h
         img = _sheet_image(session, t)
         caption_y = y0                                    # the caption alone: the cell's top
+        if img is None and t.get("review"):   # named but gone: a blank cell told nothing
+            why = "damaged" if (Path(session).parent / t["review"]).is_file() else "missing"
+            fig.text((x0 + box_w / 2) / width, 1 - (y0 + caption_h + box_h / 2) / height,
+                     f"review sheet {why}:\n{t['review']}", fontsize=CAPTION_PT,
+                     color="0.45", ha="center", va="center")
         if img is not None:
             s = min(box_w / img.width, box_h / img.height)
             w, h = max(1, round(img.width * s)), max(1, round(img.height * s))

@@ -153,3 +153,32 @@ def test_the_stopped_status_is_the_last_even_after_a_slow_status_write(tmp_path)
     rep.close()
     rep.stopped()
     assert json.loads(missing.read_text())["mode"] == "stopped"
+
+
+def test_a_kiosk_stopped_on_purpose_says_so_in_a_last_heartbeat(tmp_path):
+    """A gallery watching the heartbeats (``tabletop status``) saw a kiosk stopped on purpose
+    fall silent, as one that crashed or lost its power does; only its status file said
+    "stopped". Its last heartbeat now says it, with 0 fps; one without a status file too."""
+    from tabletop.commands.status import format_heartbeat
+    from tabletop.kiosk.health import Heartbeat
+    from tests.kiosk.test_health import Clock, OscListener
+    from tracking.scenes import wait_for
+    osc, clock, stats = OscListener(), Clock(), LoopStats()
+    stats.tick_times.extend(k / 30.0 for k in range(31))
+    try:
+        for status_file in (tmp_path / "status.json", None):
+            rep = HealthReporter("table-7", stats, status_file=status_file, clock=clock,
+                                 heartbeat=Heartbeat("127.0.0.1", osc.port), started=40.0)
+            rep(Frame(seq=0, t=clock.t))
+            assert wait_for(lambda: len(osc.got) % 2 == 1, 5.0)
+            rep.close()
+            clock.t += 3.0
+            rep.stopped()
+            assert wait_for(lambda: len(osc.got) % 2 == 0, 5.0)
+            name, uptime, fps, unhealthy, text = osc.got[-1]
+            assert json.loads(text)["mode"] == "stopped" and fps == 0.0 and uptime == clock.t - 40
+            assert format_heartbeat("127.0.0.1:1", name, uptime, fps, unhealthy,
+                                    text).endswith("0.0 fps  0 unhealthy  stopped")
+    finally:
+        osc.close()
+    assert json.loads((tmp_path / "status.json").read_text())["mode"] == "stopped"

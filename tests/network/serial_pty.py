@@ -17,17 +17,27 @@ def open_pty():
 
 
 @contextmanager
-def tracked_pty(timeout_s: float):
-    """A serial source on a fresh pseudo-terminal, open and healthy, with the tracker's inputs:
-    yields (the terminal's master end, the source, the inputs)."""
+def a_pty():
+    """A fresh pseudo-terminal, both ends closed after: yields (master, slave, its name)."""
     master, slave, name = open_pty()
-    src = SerialInput("mcu", name, timeout_s=timeout_s)
-    inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False)))
-    src.open()
     try:
-        assert wait_for(lambda: src.health().ok, 5.0)
-        yield master, src, inputs
+        yield master, slave, name
     finally:
-        src.close()
         os.close(master)
         os.close(slave)
+
+
+@contextmanager
+def tracked_pty(timeout_s: float, settings: TrackerSettings | None = None):
+    """A serial source on a fresh pseudo-terminal, open and healthy, with the tracker's inputs
+    (``settings``, unsmoothed by default): yields (the terminal's master end, the source, the
+    inputs)."""
+    with a_pty() as (master, _, name):
+        src = SerialInput("mcu", name, timeout_s=timeout_s)
+        inputs = LiveInputs([src], Tracker(settings or TrackerSettings(smooth=False)))
+        src.open()
+        try:
+            assert wait_for(lambda: src.health().ok, 5.0)
+            yield master, src, inputs
+        finally:
+            src.close()

@@ -6,14 +6,12 @@ import os
 
 import pytest
 
-from tabletop.loop import LiveInputs
-from tabletop.plugins.tracking import Tracker
 from tracking.pucks import TrackerSettings
 from tracking.serial_input import (MAX_LINE, Command, LineError, LineSplitter, SerialInput,
                                    parse_line)
 
 from tests.network.helpers import wait_for
-from tests.network.serial_pty import open_pty, tracked_pty
+from tests.network.serial_pty import tracked_pty
 
 
 @pytest.mark.parametrize("line, command", [
@@ -141,12 +139,7 @@ def test_what_is_not_repeated_for_timeout_s_leaves_the_bus_and_what_is_repeated_
     coasts (the tracker here would coast a lost puck for 30 s), and a touch leaves without a
     ``lift``; a puck and a touch repeated all along stay past ``timeout_s``."""
     import time
-    master, slave, name = open_pty()
-    src = SerialInput("mcu", name, timeout_s=0.3)
-    inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False, coast_s=30.0)))
-    src.open()
-    try:
-        assert wait_for(lambda: src.health().ok, 5.0)
+    with tracked_pty(0.3, TrackerSettings(smooth=False, coast_s=30.0)) as (master, src, inputs):
         os.write(master, b"puck 4 0.5 0.25 1.0\ntouch 2 0.1 0.2\n")
         start, seq, frames = time.monotonic(), 0, []
         while time.monotonic() - start < 10.0:
@@ -164,10 +157,6 @@ def test_what_is_not_repeated_for_timeout_s_leaves_the_bus_and_what_is_repeated_
         assert [p.id for p in last.pucks] == [5] and [c.id for c in last.touches] == [6]
         assert all(p.state == "seen" for f in frames for p in f.pucks)   # never coasting
         assert src.bad.counts() == {}
-    finally:
-        src.close()
-        os.close(master)
-        os.close(slave)
 
 
 def test_huge_puck_angles_through_a_pty_leave_the_tracker_running():

@@ -9,7 +9,7 @@ import pytest
 from tracking.serial_input import SerialInput
 
 from tests.network.helpers import ipv6_loopback, wait_for
-from tests.network.serial_pty import open_pty, tracked_pty
+from tests.network.serial_pty import a_pty, open_pty, tracked_pty
 
 
 def test_a_vanished_pty_is_reopened():
@@ -111,19 +111,16 @@ def test_a_device_down_for_long_is_said_once_and_its_return_once(caplog):
     # a kiosk's serial device unplugged for days: every retry was a log line (8 s apart at
     # most); now the reason once (again every 10 minutes), and the return once
     src = SerialInput("mcu", "/dev/does-not-exist", retry_min_s=0.01, retry_max_s=0.02)
-    with caplog.at_level("INFO", logger="tabletop.serial"):
+    with caplog.at_level("INFO", logger="tabletop.serial"), a_pty() as (master, _, name):
         src.open()
         try:
             assert wait_for(lambda: src._retries.failures >= 10, 5.0)
-            master, slave, name = open_pty()               # plugged in
-            src.port = name
+            src.port = name                                # plugged in
             assert wait_for(lambda: src.health().ok, 5.0)
             os.write(master, b"puck 1 0.1 0.1 0\n")
             assert wait_for(lambda: src.lines == 1, 5.0)
         finally:
             src.close()
-            os.close(master)
-            os.close(slave)
     said = [r.getMessage() for r in caplog.records]
     assert len(said) == 2, said                       # measured: 10+ lines before
     assert "cannot open /dev/does-not-exist" in said[0] and "back after" in said[1]
@@ -147,14 +144,10 @@ def test_a_port_that_can_never_open_is_refused_at_load(tmp_path):
         with pytest.raises(ConfigError) as info:
             validate_config({"sources": [{"kind": "serial", "port": port}]}, "cfg.yaml")
         assert str(info.value).startswith(f"cfg.yaml: sources[0].port: {words}"), info.value
-    master, slave, name = open_pty()
-    try:   # a device, or one not plugged in yet, and a known URL are taken
+    with a_pty() as (_, _, name):   # a device, or one not plugged in yet, and a known URL
         for port in (name, "/dev/ttyACM9", "loop://", "socket://localhost:7"):
             cfg = validate_config({"sources": [{"kind": "serial", "port": port}]}, "cfg.yaml")
             assert cfg["sources"][0]["port"] == port
-    finally:
-        os.close(master)
-        os.close(slave)
 
 
 def test_an_open_port_that_goes_silent_is_unhealthy_until_a_valid_line_comes():
@@ -162,37 +155,35 @@ def test_an_open_port_that_goes_silent_is_unhealthy_until_a_valid_line_comes():
     position arrived. Silent (no valid line) for over ``stall_s`` of the source's clock it is
     unhealthy with the reason; garbage does not count; a comment brings it back, a puck too."""
     now = [100.0]
-    master, slave, name = open_pty()
-    src = SerialInput("mcu", name, stall_s=5.0, clock=lambda: now[0])
-    src.open()
-    try:
-        assert wait_for(lambda: src.health().ok, 5.0)
-        now[0] = 106.0                                     # opened, never a line
-        h = src.health()
-        assert not h.ok and h.message == f"{name} open; no valid line for 6 s"
-        os.write(master, b"puck 1 0.1 0.1 0\n")
-        assert wait_for(lambda: src.lines == 1, 5.0)
-        assert src.health().ok
-        now[0] = 110.9                                     # 4.9 s: within the limit
-        assert src.health().ok
-        now[0] = 4000.0                                    # an hour later
-        h = src.health()
-        assert not h.ok and h.message.startswith(f"{name} open; no valid line for 3894 s")
-        os.write(master, b"nonsense here\n")               # garbage is no sign of life
-        assert wait_for(lambda: src.bad.total() == 1, 5.0)
-        h = src.health()
-        assert not h.ok and h.message == (f"{name} open; no valid line for 3894 s "
-                                          "(ignored: 1 unknown command)")
-        os.write(master, b"# idle\n")                      # a device with nothing to report
-        assert wait_for(lambda: src.health().ok, 5.0)
-        now[0] = 4010.0
-        assert not src.health().ok
-        os.write(master, b"puck 1 0.2 0.1 0\n")
-        assert wait_for(lambda: src.health().ok, 5.0) and src.lines == 2
-    finally:
-        src.close()
-        os.close(master)
-        os.close(slave)
+    with a_pty() as (master, _, name):
+        src = SerialInput("mcu", name, stall_s=5.0, clock=lambda: now[0])
+        src.open()
+        try:
+            assert wait_for(lambda: src.health().ok, 5.0)
+            now[0] = 106.0                                     # opened, never a line
+            h = src.health()
+            assert not h.ok and h.message == f"{name} open; no valid line for 6 s"
+            os.write(master, b"puck 1 0.1 0.1 0\n")
+            assert wait_for(lambda: src.lines == 1, 5.0)
+            assert src.health().ok
+            now[0] = 110.9                                     # 4.9 s: within the limit
+            assert src.health().ok
+            now[0] = 4000.0                                    # an hour later
+            h = src.health()
+            assert not h.ok and h.message.startswith(f"{name} open; no valid line for 3894 s")
+            os.write(master, b"nonsense here\n")               # garbage is no sign of life
+            assert wait_for(lambda: src.bad.total() == 1, 5.0)
+            h = src.health()
+            assert not h.ok and h.message == (f"{name} open; no valid line for 3894 s "
+                                              "(ignored: 1 unknown command)")
+            os.write(master, b"# idle\n")                      # a device with nothing to report
+            assert wait_for(lambda: src.health().ok, 5.0)
+            now[0] = 4010.0
+            assert not src.health().ok
+            os.write(master, b"puck 1 0.2 0.1 0\n")
+            assert wait_for(lambda: src.health().ok, 5.0) and src.lines == 2
+        finally:
+            src.close()
 
 
 def test_a_socket_url_takes_an_ipv6_address_in_brackets_and_refuses_a_malformed_one():
@@ -245,8 +236,7 @@ def test_a_device_silent_on_an_empty_table_stays_healthy_unless_stall_s_is_set()
     ``stall_s`` turns the silence check on."""
     from tabletop.config import validate_config
 
-    master, slave, name = open_pty()
-    try:
+    with a_pty() as (_, _, name):
         src_cfg = validate_config({"sources": [{"kind": "serial", "port": name}]},
                                   "cfg.yaml")["sources"][0]
         assert src_cfg["stall_s"] is None
@@ -262,9 +252,6 @@ def test_a_device_silent_on_an_empty_table_stays_healthy_unless_stall_s_is_set()
             assert src.health().ok
         finally:
             src.close()
-    finally:
-        os.close(master)
-        os.close(slave)
 
 
 def test_a_relative_port_is_relative_to_the_config_file(tmp_path, monkeypatch):
@@ -273,24 +260,22 @@ def test_a_relative_port_is_relative_to_the_config_file(tmp_path, monkeypatch):
     a kiosk started elsewhere retried "No such file or directory" for ever."""
     from tabletop.config import load_config
 
-    master, slave, name = open_pty()
-    table = tmp_path / "table"
-    table.mkdir()
-    (table / "board").symlink_to(name)
-    (table / "cfg.yaml").write_text("sources:\n  - {kind: serial, name: mcu, port: board}\n"
-                                    "engines: []\n")
-    elsewhere = tmp_path / "elsewhere"
-    elsewhere.mkdir()
-    monkeypatch.chdir(elsewhere)
-    port = load_config(table / "cfg.yaml")["sources"][0]["port"]
-    assert port == str(table / "board")
-    src = SerialInput("mcu", port, timeout_s=5.0)
-    src.open()
-    try:
-        assert wait_for(lambda: src.health().ok, 5.0), src.health().message
-        os.write(master, b"puck 4 0.5 0.25 1.0\r\n")
-        assert wait_for(lambda: src.lines == 1, 5.0)
-    finally:
-        src.close()
-        os.close(master)
-        os.close(slave)
+    with a_pty() as (master, _, name):
+        table = tmp_path / "table"
+        table.mkdir()
+        (table / "board").symlink_to(name)
+        (table / "cfg.yaml").write_text("sources:\n  - {kind: serial, name: mcu, port: board}\n"
+                                        "engines: []\n")
+        elsewhere = tmp_path / "elsewhere"
+        elsewhere.mkdir()
+        monkeypatch.chdir(elsewhere)
+        port = load_config(table / "cfg.yaml")["sources"][0]["port"]
+        assert port == str(table / "board")
+        src = SerialInput("mcu", port, timeout_s=5.0)
+        src.open()
+        try:
+            assert wait_for(lambda: src.health().ok, 5.0), src.health().message
+            os.write(master, b"puck 4 0.5 0.25 1.0\r\n")
+            assert wait_for(lambda: src.lines == 1, 5.0)
+        finally:
+            src.close()

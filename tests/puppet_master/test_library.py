@@ -82,6 +82,9 @@ def test_replace_writes_the_new_take(tmp_path, demo):
       " window)"]),
     ("- just\n- a list\n", ["expected a mapping"]),
     ("\x00\x01garbage", ["behavior.yaml"]),
+    # cut short before its parameters (a copy interrupted): an internal error, a TypeError
+    ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nname: lover\ndescription: Ap",
+     ["behavior.yaml: parameters: missing; expected a mapping of parameter names to numbers"]),
 ])
 def test_corrupt_description_is_refused_and_kept_byte_identical(tmp_path, demo, text, words):
     folder = library.save_behavior(tmp_path, "x", demo, {})

@@ -195,7 +195,28 @@ def test_review_tells_a_recording_by_its_first_line_and_refuses_what_is_no_log(t
         f.write(b'{"target": "pet", "outcome": "kept", "duration_s": 4}\n')
         f.truncate(129 * 2**20)
     assert cli(["review", str(big)]) == 2
-    assert "big.jsonl: over 128 MB, more than a studio session log holds" in \
-        capsys.readouterr().err
+    assert ("big.jsonl: 135,266,304 bytes, more than a studio session log holds (at most "
+            "134,217,728); not read") in capsys.readouterr().err
     assert cli(["review", "/dev/null"]) == 2
     assert "/dev/null: not a regular file" in capsys.readouterr().err
+
+
+def test_a_review_sheet_the_log_names_but_that_is_gone_or_damaged_is_said_in_its_cell(tmp_path):
+    """A try whose sheet was deleted or cut short showed a blank cell, like a try that never
+    had one: the designer could not tell a lost sheet from none."""
+    import matplotlib.image as mpimg
+    from tabletop.studio import review as rv
+    (tmp_path / "bad.png").write_bytes(b"\x89PNG\r\n\x1a\n" + b"\0" * 40)
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept"}\n'
+                   '{"target": "pet", "outcome": "kept", "review": "gone.png"}\n'
+                   '{"target": "pet", "outcome": "kept", "review": "bad.png"}\n')
+    out = tmp_path / "sheet.png"
+    assert cli(["review", str(log), "--columns", "1", "--out", str(out)]) == 0
+    img = mpimg.imread(str(out))[..., :3].sum(axis=2)
+    caption_h = rv._text_px("a\nb", rv.CAPTION_PT) + rv.PAD_PX
+    cell_h = round((rv.CELL_IN * rv.DPI - 2 * rv.PAD_PX) * rv.SHEET_ASPECT + caption_h
+                   + 2 * rv.PAD_PX)
+    cells = img[-3 * cell_h:].reshape(3, cell_h, -1)
+    inked = [(cell[round(caption_h) + 2 * rv.PAD_PX:] < 2.5).sum() for cell in cells]
+    assert inked[0] == 0 and inked[1] > 100 and inked[2] > 100, inked

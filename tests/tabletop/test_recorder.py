@@ -411,3 +411,19 @@ def test_blank_lines_after_the_last_frame_are_no_frame(tmp_path, capfd, tail, co
     else:
         assert len(err) == 1 and str(path) in err[0], err
         assert words.replace("LAST", str(len(lines))) in err[0]
+
+
+def test_a_header_cut_short_is_named_so(tmp_path):
+    """A recording whose header line was cut (a power cut while it was written): JSON's
+    "line 1: not valid JSON (Unterminated string starting at)" told nothing of what happened."""
+    path = record(tmp_path, seconds=0.3)
+    data = path.read_bytes()
+    for cut in (40, data.index(b"\n") // 2):
+        path.write_bytes(data[:cut])
+        with pytest.raises(SessionError) as info:
+            read_header(path)
+        assert str(info.value) == (f"{path}: line 1: its header is cut short (the recording "
+                                   "was interrupted while it was written): nothing to replay")
+    path.write_bytes(b'{"format":"tabletop-session", oops}\n')   # whole but damaged: as before
+    with pytest.raises(SessionError, match="line 1: not valid JSON"):
+        read_header(path)

@@ -322,3 +322,33 @@ def test_a_snapshot_folder_naming_a_file_says_so(tmp_path, capfd):
     assert code == 2 and line.endswith(f"view.snapshot_folder: {tmp_path / 'snaps'}: cannot be "
                                        "used: a file, not a folder"), line
     assert (tmp_path / "snaps").read_text() == "notes\n"
+
+
+def test_a_snapshots_panel_has_the_lines_the_shown_overlay_has(tmp_path):
+    """A kiosk's overlay is hidden: its snapshots are how it is checked from afar. Their panel
+    left out the notices (a refused config edit) that the shown overlay carries."""
+    cfg = validate_config({"sources": [{"kind": "scripted"}],
+                           "view": {"headless": True, "size": [640, 360], "snapshot_every_s": 0.05,
+                                    "snapshot_folder": "snaps"}}, "test", tmp_path)
+    view = ProjectorView((1.2, 0.8), cfg["view"], stats=LoopStats(), headless=True)
+    view.notices.append(lambda: ["config refused: cfg.yaml: view.sise: unknown key"])
+    drawn = []   # the lines of every panel drawn
+    draw = view.renderer.draw_overlay
+
+    def spy(surface, lines, *args, **kw):
+        drawn.append(list(lines))
+        return draw(surface, lines, *args, **kw)
+
+    view.renderer.draw_overlay = spy
+    try:
+        for k in range(6):
+            view.consume(Frame(seq=k, t=k * 0.05))
+            time.sleep(0.06)
+        assert drawn and not view.show_overlay
+        assert all(lines[-1] == "config refused: cfg.yaml: view.sise: unknown key"
+                   for lines in drawn)
+        view.show_overlay = True                               # as the service key shows it
+        view.consume(Frame(seq=6, t=0.3))
+        assert drawn[-1][-1] == drawn[0][-1]
+    finally:
+        view.close()

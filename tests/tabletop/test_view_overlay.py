@@ -14,7 +14,8 @@ import tabletop.view as view_module
 from tabletop.config import validate_config
 from tabletop.frames import CharacterState, Frame, SourceHealth
 from tabletop.loop import LoopStats
-from tabletop.view import OVERLAY_REFRESH_S, ProjectorView, overlay_lines, overlay_steps
+from tabletop.view import (OVERLAY_REFRESH_S, ProjectorView, overlay_lines, overlay_steps,
+                           panel_tail)
 from tests.tabletop.test_view import SIZE, TABLE, at, new_renderer, rgb
 
 pytestmark = pytest.mark.usefixtures("pygame_display")
@@ -28,12 +29,13 @@ def stats_with_stages(n_stages: int) -> LoopStats:
     return stats
 
 
-def test_overlay_steps_yield_per_stage_and_end_with_the_same_lines_as_overlay_lines():
+def test_overlay_steps_yield_per_stage_and_end_with_the_head_of_overlay_lines():
     stats = stats_with_stages(6)
     frame = Frame(seq=12, t=3.0)
     steps = list(overlay_steps(frame, stats))
     assert all(s is None for s in steps[:-1]) and len(steps) - 1 == len(stats.samples)
-    assert steps[-1] == overlay_lines(frame, stats)
+    assert steps[-1] + panel_tail(frame, ["a notice"]) == overlay_lines(frame, stats,
+                                                                        ["a notice"])
     assert any("stage5" in line and "ms p99" in line for line in steps[-1])
 
 
