@@ -27,7 +27,21 @@ REVERSAL_MOVE = 2.0
 #: on 103 a 0.7x figure eight .948 -> .379: that early size had helped); within 0.1 .9019
 #: .8741 .8982 .8869 .8856 .8787; no input reversal within 2.5 / 5 least motions
 #: (:data:`REVERSAL_MOVE`) of the anchor .9022 .8755 .9029 .8871 .8860 .8840 / .9020 .8738
-#: .8988 .8855 .8847 .8758.
+#: .8988 .8855 .8847 .8758. The fit's tolerance is a share of the extent (37 mm), so a turn
+#: 0.2 mm from the first state (the cartwheel ankle's) takes any wiggle near the anchor: a
+#: 0.7x one sized 1.63 (seed 108). Measured on 101-112 (before .9022 .8858 .9057 .8990 .8903
+#: .8849 .8821 .8768 .8819 .8943 .8912 .8820), not kept: a landmark within one least motion
+#: (2.2 mm) of the first state sizing smaller only (follower and group): .9022 .8858 .9087
+#: .8990 .8903 .8945 .8821 .8865 .8819 .8945 .8912 .8910, held-out 0.6/1.5x .7001 -> .7144,
+#: unrelated and back to back the same, but tuned .9124 -> .9106: a 0.7x circle .773 -> .682
+#: and wave .946 -> .857 were valid only while their rival the figure eight was sized 1.39 /
+#: 1.74 at its wiggle (sized right it leads them at 0.36-0.42, their own size still 0.91); the
+#: landmarks it spared (the 0.7x figure eight .000 -> .963, cartwheel ankle .000 -> .949) wait
+#: on that lag. A turn within
+#: one state spread (sigma) of the first is none: 101 .9001, 103 .9027, tuned .9103 (the
+#: cartwheel's 3.9 mm turn then covers its first states: 1.0x ones sized 1.40). Each state's
+#: nearest landmark rather than its first (a backflip ankle's second wiggle matched to its
+#: first turn, 1.21 -> 0.85): .8887 .8778 .8990 .8896 .8887 .8961, tuned .9128.
 REVERSAL_BEHIND = 6
 #: A line drawn 0.7x, followed at size 1, turns back 6.5 states short of its turn (state 23 of
 #: 46); at 6 ahead its return was then followed backwards. Sized 0.7-1.4x valid after 30%
@@ -39,7 +53,10 @@ REVERSAL_BEHIND = 6
 #: .99 -> .46, sized 1.0 -> 1.18 at a pause by a turn 7 states ahead, then misshaped). Measured
 #: and not kept, 8-9 ahead that way (HOLD_AHEAD 6; 101-106 before .9022 / .8749 / .9057 /
 #: .8871 / .8860 / .8744): 8 -> .9014 / .8823 / .9057 / .8887 / .8892 / .8830; 9 -> .9014 /
-#: .8823 / .9057 / .8887 / .8842 / .8783.
+#: .8823 / .9057 / .8887 / .8842 / .8783. Smaller only (with :data:`REVERSAL_LARGER_AHEAD`), 101-106
+#: before .9022 / .8858 / .9057 / .8990 / .8903 / .8849: 8 -> 102 .8833 (a punch ankle 0.7x
+#: .77 -> .65), 9 -> 102 .8833, 106 .8802; the 0.7x lines unchanged (their turn is read, the
+#: return then followed back down the stroke).
 REVERSAL_AHEAD = 7
 #: A landmark farther ahead of the followed state than this sizes its template smaller only:
 #: the farther reach is for an input drawn smaller than the estimate.

@@ -60,6 +60,12 @@ once at its entry to the live bearing (the place alone / with its relative step)
 (the fast paths' orbit 0.294 -> 0.325-0.333); a kept charge ended where the live rate over 0.25 s
 passed 1.5 x the moment's 47 (39), contact 35 (in charges on 9-13% of steps against 25%). None
 kept.
+
+The same hold within 0.12 m only while the live main's pace over its last positions (main_recent,
+0.5 s) is no more than the matched moment's main's over 0.5 s (so a fast main is still pushed as
+often: the rhythm the hold lost there), summed over the three runs as above per set: 11 (8) / 11
+(9) / 17 (12) / 20 (15), 59 (44) against 64 (48), but seeds 0-5 3 -> 11: the slow paths'
+still/moving (seeds 2, 4, 5: 7 of the 11). Not kept.
 """
 
 from __future__ import annotations

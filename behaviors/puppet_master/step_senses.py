@@ -140,7 +140,34 @@ class StepSenses:
         0.07), but its pace beside the walking main rises (0.266 / 0.279 / 0.268 -> 0.347 /
         0.302 / 0.316, designer 0.177 / 0.155 / 0.089; its moments 0.27-0.32). Its walking
         pace is 1.5-3 x its designer's there, and the ratio had been met only because both
-        paces were too fast."""
+        paces were too fast.
+
+        That walking pace traced (Python step, seeds 42 / 129 loops, 131 slow; main walking, places
+        in its frame): where the moment went along with its main (own_steps k >= FOLLOW_SHARE, the
+        correction held to its span step) 0.30-0.39 m/s at moments of 0.35-0.39; elsewhere the
+        correction runs 0.50-0.75 m/s uncapped, the step 0.31-0.39 at moments of 0.33-0.34. The
+        matched moments are the demonstration's flights (its main chased) and the demonstration
+        walks at 0.252: the pace is the moments', not the correction's. Misses as above (against 73
+        (3) p 4 (3) / 126 (9) p 33 (20) / 160 (7) p 30 (17) / 192 (10) p 40 (25)): that correction
+        at the moment's pace here and beside a walking main, seeds 0-5 106 (0) p 5 (3) (walking
+        0.18-0.23 m/s, its designer's pace: speed W1 and facing lost against the demonstration); at
+        2 x beside a walking main, seed set 0-5 alone unperturbed 26 against 21. Only here, at
+        moments that did not go along with their main (the span step's cap kept where they did) 73
+        (2) p 3 (1) / 130 (13) p 28 (16) / 138 (11) p 27 (17) / 182 (5) p 32 (20): 551 -> 523 open,
+        107 -> 90 chased, but 40-51 open 126 -> 130 (facing missed on the slow and fast paths 5 ->
+        16; seeds 47 slow, 51 fast over its band, 0.334 / 0.231 -> 0.340 / 0.340, shown 0.239:
+        calmer, it watches its main, as its designer does; fast-path still/moving under the band 1
+        -> 4). Here the correction outward only 80 (3) p 6 (4) / 135 (14) p 31 (19) / 161 (14) p 26
+        (17) / 174 (5) p 38 (24) (on the open paths it runs inward too: seed 42 loops 58% of the
+        steps, 0.46 m/s; chased 81-94% outward), inward only 76 (4) p 5 (4) / 130 (11) p 25 (14) /
+        148 (6) p 30 (19) / 196 (6) p 46 (32); capped from the 11th step of a stand only 75 (4) p 4
+        (3) / 129 (6) p 24 (13) / 174 (7) p 30 (17) / 178 (3) p 38 (22); at 1.25 x the moment's
+        pace 82 (2) p 6 (5) / 128 (13) p 23 (12) / 172 (6) p 23 (16) / 182 (7) p 36 (25). This
+        place beside a walking main too (a moment whose main stood, its heading placing nothing),
+        capped 72 (4) p 12 (9) / 146 (6) p 23 (10) / 157 (9) p 28 (15) / 172 (3) p 29 (16),
+        uncapped seeds 0-5 65 (3) p 9 (6); its own step turned to the live bearing as at world
+        places (own_steps' radial and tangential parts), capped, seeds 0-5 79 (6) p 9 (4). None
+        kept."""
         b, recent = self.behavior, self._main_recent
         return (b.personal_space > 0.0 and not b.walks_with_main and not b.walked[target]
                 and len(recent) == recent.maxlen and self._main_stands(mx, my))
