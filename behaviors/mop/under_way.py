@@ -17,7 +17,11 @@ the spiral's ticks at 1x (the worst unrelated motions of held-out seeds 107 and 
 ``bench/follow_seeds.py --sections=unrelated`` (held-out): seed 107 worst 0.1206 -> 0.0914 (the
 spiral with the circle alone 0.1206 -> 0), seed 106 0.1173 -> 0.0981 (the spiral 0.1173 ->
 0.004, the triangle 0.029 -> 0.008); ``bench/follow_quality.py`` (every section, tuned and
-held-out, the ``follow`` command's defaults): 538 of 538 figures identical.
+held-out, the ``follow`` command's defaults): 538 of 538 figures identical. ``bench/follow_seeds.py
+--sections=sized,unrelated,sequences`` on seeds 101-112: unrelated worst 0.1206 -> 0.1154 (109's
+diagonal, the figure eight's first stroke), mean of the seeds' worst 0.1007 -> 0.0967; told
+worst 0.1206 -> 0.1112, mean 0.0695 -> 0.0567 (111 0.0759 -> 0.0375); 133 other figures
+identical (sized and back to back on every seed).
 A gesture drawn right after an unrelated stroke, no rest between (each of the six after the
 diagonal, triangle, spiral or wander at 0.7/1/1.4x, seeds 5 and 6, 144 draws): recognised 0.271
 -> 0.257 of the draws, the two lost recognised only at 0.88 and 1.0 of their progress without
