@@ -280,6 +280,10 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
         self._abandoned, self._came = False, np.zeros(self.dim)
         self._abandon_rested = False
+        # the input's path since the anchor (still radii), its samples and its last two steps,
+        # and whether the attempt was begun under way (under_way.underway), rested since
+        self._walk, self._walk_n, self._step_prev, self._step_last = 0.0, 0, 0.0, 0.0
+        self._underway, self._underway_rested = False, False
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None

@@ -81,6 +81,11 @@ class GroupArrays:
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
         self._abandoned, self._came = np.zeros(m, dtype=bool), np.zeros((m, dmax))
         self._abandon_rested = np.zeros(m, dtype=bool)   # ... and rested since (still_unbegun)
+        # the input's path since the anchor, its samples and last two steps, and whether the
+        # attempt was begun under way, rested since (under_way.underway)
+        self._walk, self._walk_n = np.zeros(m), np.zeros(m, dtype=np.intp)
+        self._step_prev, self._step_last = np.zeros(m), np.zeros(m)
+        self._underway, self._underway_rested = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._everyone = np.ones(m, dtype=bool)   # every member has a sample (never written)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import member_validity, members, threshold, validity
+from behaviors.mop import member_validity, members, threshold, under_way, validity
 from behaviors.mop.group_layout import FLAGS, FLOATS
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
@@ -108,10 +108,16 @@ class GroupRules:
                 getattr(self, n)[cols] = 0
             for n in RESTART_ONE:
                 getattr(self, n)[cols] = 1.0
+            # begun under way (under_way.underway): read over the attempt abandoned, before
+            # that is forgotten
+            under = h == members.ABANDONED and under_way.underway(
+                float(self._step_prev[i]), float(self._step_last[i]), float(self._walk[i]),
+                int(self._walk_n[i]))
             self._forget_members(i)   # the threshold model starts afresh with the evidence,
             self._thr_ev[i] = lead      # ... but for its lead
             if h == members.ABANDONED:   # the input's way here (validity.unbegun)
                 self._abandoned[i], self._came[i] = True, came
+                self._underway[i] = under
             self._anchor[i] = anchor
 
     def _forget_members(self, rows: np.ndarray | int) -> None:
@@ -126,6 +132,9 @@ class GroupRules:
         self._drive_moved[rows] = False
         self._abandoned[rows] = False
         self._abandon_rested[rows] = False
+        self._walk[rows], self._walk_n[rows] = 0.0, 0
+        self._step_prev[rows], self._step_last[rows] = 0.0, 0.0
+        self._underway[rows], self._underway_rested[rows] = False, False
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._end_history_n[rows] = 0

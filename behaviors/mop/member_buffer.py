@@ -8,6 +8,8 @@ follower's own).
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -98,3 +100,18 @@ def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
         total += x
         n = n + 1
     return total / n[:, None]
+
+
+@compiled(numba.float64(_F3, _I1, numba.intp, _F1, numba.intp), *_CALLS_INTO)
+def step_length(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray,
+                dims: int) -> float:
+    """:func:`behaviors.mop.validity.step_length` over member ``i``'s buffered samples (its
+    first ``dims`` columns, ``radius`` (D,) per column): 0 before two samples."""
+    if count[i] < 2:
+        return 0.0
+    s = buf.shape[1]
+    acc = 0.0
+    for c in range(dims):
+        v = (buf[i, s - 1, c] - buf[i, s - 2, c]) / radius[c]
+        acc += v * v
+    return math.sqrt(acc)

@@ -55,12 +55,13 @@ _RAD = len(MEMBER_RULES)
 MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
-               "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k")
+               "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
-                 "_drive_peak", "_peak", "_m_dim")
+                 "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
-                "_tempo_on", "_abandoned", "_abandon_rested", "_lagged")
+                "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
+                "_underway_rested")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -222,6 +223,10 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
                           m_floats[8], onset, m_flags[2], crawl, ints[10])
     member_validity.unbegun(m_flags[11], present, vectors[0], vectors[1], vectors[5], m_flags[2])
+    # ... nor in an attempt begun under way (under_way.underway)
+    for i in range(present.size):
+        if present[i] and m_flags[14, i]:
+            m_flags[2, i] = False
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
     highest, drift_run = floats[8], floats[12]   # (group_layout.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
@@ -369,6 +374,11 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 if near < held:
                     end_x[i] = x[i]
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
+            # the input's step here and its path since the anchor (under_way.underway)
+            m_floats[10, i] = m_floats[11, i]
+            m_floats[11, i] = member_buffer.step_length(buf, nbuf, i, radius, int(m[12]))
+            m_floats[9, i] += m_floats[11, i]
+            ints[18, i] += 1
             lost[i] = lost[i] + 1 if all_refused[i] else 0
             for c in range(d):
                 spread[c] = scale[gb, c] * sk
@@ -376,3 +386,4 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
                               any_engaged[i])
     member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
+    member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)

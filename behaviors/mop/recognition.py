@@ -242,8 +242,11 @@ class Recognition:
                                     hovers and self._drive_k != bi)
             self._crawl_k = bi
             # ... nor while the input goes back the way it came to an abandonment's anchor
-            # (validity.unbegun), until the performer moves on after a rest
-            back = unbegun(self._abandoned, x - self._anchor, self._came)
+            # (validity.unbegun), nor in an attempt abandoned under way (under_way.underway),
+            # until the performer moves on after a rest
+            back = unbegun(self._abandoned, x - self._anchor, self._came) or self._underway
+            self._underway, self._underway_rested = still_unbegun(self._underway,
+                                                                  self._underway_rested, rests)
             self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
                                                                   self._abandon_rested, rests)
             ok = ok and not crawls(self._crawl) and not self._drifts(bi) and (

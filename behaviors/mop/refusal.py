@@ -149,6 +149,8 @@ on, beyond the 4 mm within which the bench calls a motion a performance of an ac
 spread, not one the bench's observer would name. Aligned in time (``bench.motions.aligned_gap``)
 the loop lies 9.1 mm RMS from the circle at 0.95x, a circle redrawn bent by 10% of its extent
 (``bench/follow_shapes.py``) 9.3 mm (median of 20): no shape test refuses one and follows the other.
+What tells them apart is where the loop begins: at full pace inside the spiral, where no gesture
+begins (:mod:`behaviors.mop.under_way`).
 
 Mirrored paths among twenty templates (``bench/follow_widened.py``, tuned joints, seeds 201-210),
 traced: a template's stretch followed forward and back over itself within its own spread (the

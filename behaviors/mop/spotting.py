@@ -175,6 +175,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.under_way import step_length, underway
 from behaviors.mop.gesture_end import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII,  # noqa: F401
                                        RETURN_BACK, RETURN_RADIUS, GestureEnd, arrived,
                                        drives)
@@ -271,6 +272,11 @@ class GestureSpotting(GestureEnd):
             # ended at its tempo: the end is where the input comes nearest its last point
             self._end_x = x.copy()
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)
+        # the input's step here and its path since the anchor (under_way.underway)
+        self._step_prev, self._step_last = self._step_last, step_length(
+            self._recent_x, self._still_radius)
+        self._walk += self._step_last
+        self._walk_n += 1
         self._lost = self._lost + 1 if bool(self._refused.all()) else 0
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
                                         self._departed(x, bi, self.accept_distance)):
@@ -286,7 +292,9 @@ class GestureSpotting(GestureEnd):
         elif self._lost >= self.lost_samples:
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
             came = x - self._anchor   # (the anchor is set at the first sample: _inputs)
+            under = underway(self._step_prev, self._step_last, self._walk, self._walk_n)
             self._restart_here(x, forward, offset)
             self._abandoned, self._came = True, came
+            self._underway = under
         elif still and not engaged:
             self._restart_here(x, forward, offset, still=True)

@@ -1,0 +1,52 @@
+"""No action taken in an attempt abandoned while the input sweeps on (``behaviors.mop.under_way``):
+a spiral's second turn, begun at full pace through its start, is no circle's onset; the group
+decides it as its followers alone."""
+
+import math
+
+import numpy as np
+
+from bench.follow_quality import gesture_templates, puck_follower, run
+from bench.motions import performance, unrelated_motions
+from behaviors.mop import under_way
+from behaviors.mop.group import FollowerGroup
+
+
+def _spiral_with_the_circle(seed: int = 11) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The circle alone and a spiral (two turns, the second a loop the circle's way round
+    through its start) as the bench draws them, at 1.0x."""
+    circle = {"circle": gesture_templates()["circle"]}
+    rng = np.random.default_rng(seed)
+    path = unrelated_motions(rng, circle)["spiral"]
+    performance(rng, path, 0.7)
+    return circle, performance(rng, path, 1.0)[0]
+
+
+def test_no_action_is_taken_in_an_attempt_abandoned_under_way(monkeypatch):
+    # under_way.underway: every template refused the spiral's first turn; abandoned as the input
+    # swept through the spiral's start at full pace, the new attempt was anchored there and
+    # the circle followed the second turn as a circle begun from rest. Measured 0 valid ticks,
+    # 36 with the rule off
+    circle, x = _spiral_with_the_circle()
+    now = sum(s.valid for s in run(puck_follower(circle), x))
+    monkeypatch.setattr(under_way, "UNDERWAY", 0.0)
+    off = sum(s.valid for s in run(puck_follower(circle), x))
+    assert now <= 5 and off >= now + 25, (now, off)
+
+
+def test_a_group_refuses_an_attempt_abandoned_under_way_as_its_followers_alone():
+    # the same over members (group.FollowerGroup, its attempt's pace kept per member): every
+    # state equal to the followers' alone (the spiral, and its second turn drawn 1.3x larger)
+    circle, x = _spiral_with_the_circle()
+    streams = [x, np.concatenate([x[:40], x[40:] * 1.3 - x[40] * 0.3])]
+    alone = [puck_follower(circle) for _ in streams]
+    group = FollowerGroup([puck_follower(circle) for _ in streams])
+    valid = 0
+    for t in range(len(x)):
+        together = group.step([s[t] for s in streams])
+        for f, s, g in zip(alone, streams, together):
+            a = f.step(s[t])
+            assert (a.valid, a.best) == (g.valid, g.best), t
+            assert math.isclose(a.progress, g.progress, rel_tol=1e-12, abs_tol=1e-12), t
+            valid += g.valid
+    assert valid <= 10, valid   # measured 0 (36 on the spiral with the rule off)
