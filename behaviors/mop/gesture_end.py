@@ -223,7 +223,19 @@ class GestureEnd:
         its extent, at the estimated size, from the anchor) while its followed progress slid back
         by :data:`RETURN_BACK` from its peak since it became best: a return followed backwards
         along the outward stroke (a line's out-and-back at another size and tempo) whose end the
-        progress would never reach."""
+        progress would never reach.
+        Measured and not kept: only where the input arrives there (its last step within 4 or 8
+        still radii in every column; follower and compiled group alike). Held-out seed 106's dance
+        ankle, followed back down its path (0.53 -> 0.24 while its performer went on, 0.61 ->
+        0.905), passed its last point at 20-29 mm a sample and was ended there, so the wave
+        after it was anchored four samples before it began and a crawl ankle drove 4 ticks of it.
+        ``bench/follow_seeds.py --sections=sequences`` (101-112), twenty templates: 106's longest
+        wrong run 4 -> 3, within 20% 0.25 -> 0.281 (at 4 also 104's 0.313 -> 0.344), every other
+        figure unchanged; ``bench/follow_quality.py --sections=sized,holds`` identical. But at 4
+        unrelated motions among twenty valid 0.0082 -> 0.0089 of the time (mean; over all 0.0105
+        -> 0.0109), and at either ``tests/mop/test_threshold_lead.py``'s mirrored spin ankle no
+        longer restarts part way: the backflip wrist followed back over it passes its last point
+        at speed, the new attempt the test's threshold model is carried into never begins."""
         if self._peak - progress < RETURN_BACK:
             return False
         r = (x - self._last_point(k)) / self._units
