@@ -233,9 +233,10 @@ class GestureEnd:
         wrong run 4 -> 3, within 20% 0.25 -> 0.281 (at 4 also 104's 0.313 -> 0.344), every other
         figure unchanged; ``bench/follow_quality.py`` identical at 8 (every figure), at 4 sized
         and holds identical but unrelated motions among twenty valid 0.0082 -> 0.0089 of the time
-        (mean; over all 0.0105 -> 0.0109); and at either ``tests/mop/test_threshold_lead.py``'s mirrored spin ankle no
-        longer restarts part way: the backflip wrist followed back over it passes its last point
-        at speed, the new attempt the test's threshold model is carried into never begins."""
+        (mean; over all 0.0105 -> 0.0109); and at either ``tests/mop/test_threshold_lead.py``'s
+        mirrored spin ankle no longer restarts part way: the backflip wrist followed back over it
+        passes its last point at speed, and the new attempt the test's threshold model is carried
+        into never begins."""
         if self._peak - progress < RETURN_BACK:
             return False
         r = (x - self._last_point(k)) / self._units
