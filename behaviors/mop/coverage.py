@@ -272,6 +272,14 @@ observer tells from the getup wrist by 0.25, ``bench/spotting_reach.py``), and o
 eight. Measured and not kept (``bench/follow_seeds.py --sections=sequences,unrelated``, held-out
 seeds 101-106): ``confirm`` 1, twenty within 20% mean 0.260 -> 0.323, but the longest wrong run
 longer on five seeds (4/5/7/2/2/4 -> 4/6/8/3/4/5) and unrelated worst 0.117 -> 0.194.
+What else holds the tuned twenty's late gestures (``bench.spotting_reach.gate_state`` per tick on
+the bench's draws: the progress from which each rule held until the gesture drove): the kick
+ankle (3 draws, recognised 0.35-0.39) covered at 0.28-0.33, unshared from 0.25-0.26, probable and
+best from 0.32-0.33; the spinkick ankle (3, 0.33-0.36) covered 0.28-0.30, unshared 0.26-0.28,
+probable 0.31-0.33; the spin ankle (2, 0.38-0.40) covered 0.30-0.33, unshared 0.34-0.36; the punch
+wrist (0.39) engaged only at 0.29; the roll ankle (0.23-0.33) covered at 0.20-0.21, probable at
+0.17-0.31; the line and the square shared to 0.37-0.41. Coverage met sooner leaves each of them
+past 0.2 (the ceiling with no coverage at all, 0.41, above).
 """
 
 from __future__ import annotations

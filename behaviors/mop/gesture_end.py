@@ -108,6 +108,23 @@ pauses valid after 0.9411 -> 0.9397 / 0.9288, bent 10% 0.6208 -> 0.6203 (the fig
 follower reached ``end``, lost a tick); holds and unrelated motions unchanged, and the
 sequences' shares within 20%. The sample before at the last point alone (no tempo): seed 108's
 zigzag drove one sample, but valid after 30% 0.9117 -> 0.9103 / 0.9022 -> 0.9009.
+The grace less by the samples before the end that already lay within ``R`` still radii (per
+column) of the template's last point at its size, up to :data:`END_GRACE` (the performer there
+before the follower, whatever the tempo; the follower alone, measured, not kept). Held-out seed
+101's twenty-template run of 4: the backflip ankle's performer reached its last point a sample
+before the square began (within 2.3 mm of it from then on, the jitter's 1.3-2.6 mm steps over
+:data:`ARRIVE_RADIUS`), the follower at 0.95 there reached ``end`` two samples later, at the
+square's second, and the grace added two. ``bench/follow_seeds.py --sections=sequences`` (R 3):
+twenty templates' longest wrong run on 101 4 -> 2, every other seed of 101-112 unchanged; six
+gestures 1/2/2/2/2/2 -> 1/1/1/1/1/2 (101-106) and 2/3/2/2/2/1 -> 1/1/2/1/1/1 (107-112). But
+``bench/follow_quality.py --sections=sized`` valid after 30% at 0.7-1.4x 0.9124 -> 0.9097
+(held-out 0.9022 -> 0.9003); R 2: 0.9110 / 0.9009, the six example gestures' eased, closed
+approaches lying within 2 still radii of their last point 1-3 samples before it (``--debug``: a
+zigzag at 1.0x 1.0 -> 0.964, a circle at 0.7x 0.667 -> 0.619, figure eights at 1.0-1.4x 0.01-0.03
+each); R 3 counting only samples at which the follower was still below 0.955: 0.9116 / 0.9022 and
+no run changed (that backflip's follower was at 0.96 a sample before its end). Where the
+performer stops at the last point and where they creep to it, the follower reaching ``end`` at
+the same sample, the input looks the same.
 """
 
 from __future__ import annotations
@@ -206,7 +223,20 @@ class GestureEnd:
         its extent, at the estimated size, from the anchor) while its followed progress slid back
         by :data:`RETURN_BACK` from its peak since it became best: a return followed backwards
         along the outward stroke (a line's out-and-back at another size and tempo) whose end the
-        progress would never reach."""
+        progress would never reach.
+        Measured and not kept: only where the input arrives there (its last step within 4 or 8
+        still radii in every column; follower and compiled group alike). Held-out seed 106's dance
+        ankle, followed back down its path (0.53 -> 0.24 while its performer went on, 0.61 ->
+        0.905), passed its last point at 20-29 mm a sample and was ended there, so the wave
+        after it was anchored four samples before it began and a crawl ankle drove 4 ticks of it.
+        ``bench/follow_seeds.py --sections=sequences`` (101-112), twenty templates: 106's longest
+        wrong run 4 -> 3, within 20% 0.25 -> 0.281 (at 4 also 104's 0.313 -> 0.344), every other
+        figure unchanged; ``bench/follow_quality.py`` identical at 8 (every figure), at 4 sized
+        and holds identical but unrelated motions among twenty valid 0.0082 -> 0.0089 of the time
+        (mean; over all 0.0105 -> 0.0109); and at either ``tests/mop/test_threshold_lead.py``'s
+        mirrored spin ankle no longer restarts part way: the backflip wrist followed back over it
+        passes its last point at speed, and the new attempt the test's threshold model is carried
+        into never begins."""
         if self._peak - progress < RETURN_BACK:
             return False
         r = (x - self._last_point(k)) / self._units

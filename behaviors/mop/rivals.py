@@ -101,6 +101,17 @@ Not forgotten (the plain mean): the same runs, valid after 30% lower on 10 of th
 1.2-1.4x were held by the circle (gap 0.33-0.48 at their size, 0.70-0.76 as the mean) and jump
 ankles at 1.2-1.5x by the square and the circle: actions whose size grew, as the spin grown on
 the circle.
+Every run over 2 ticks among the held-out twenty (``bench/follow_seeds.py --sections=sequences``,
+seeds 101-112, longest 4/5/7/2/2/4 and 3/6/4/4/5/4), traced per tick: the spin wrist on a circle's
+0.31-0.40 (102, 108, 110, 111, 112: 4-6 ticks, its size rising 1.10 -> 1.41 as above); the punch
+ankle on a getup wrist's 0.11-0.30 (103: 7 and 4, 108: 6, 109: 4); an ended action into the next
+gesture's eased start, its follower two samples behind its performer at the end (101: the
+backflip ankle into a square, 4; 106: the jump ankle into a crawl ankle, 3; 107: the backflip
+ankle into a wave, 3; 109: the line into a zigzag, 3: :mod:`~behaviors.mop.gesture_end`); the
+line on the square's first side (106, 3); and on 106 the crawl ankle on a wave's 0.18-0.24 (4):
+the dance ankle before it, followed back down its path (0.53 -> 0.24 while its performer went
+0.61 -> 0.905), ended there as a return (``gesture_end.RETURN_BACK``), so the wave's attempt was
+anchored four samples before the wave began, on the dance's last stroke.
 """
 
 from __future__ import annotations
