@@ -63,9 +63,14 @@ class StepSenses:
         misses (the engine's) of the whole table against 43 (7) / 112 (31) / 104 (21) / 110
         (24), pursuit 1 (1) / 11 (7) / 10 (6) / 12 (7): the afraid and the lover 53 (10) / 109
         (32) / 109 (23) / 110 (28), pursuit 2 (1) / 8 (5) / 9 (7) / 14 (9), still/moving (the
-        engine's) 18 -> 28 (its stood place on this read 31); with the straightness below kept
-        as well, every character but the stalker 53 (11) / 114 (37) / 100 (18) / 115 (26). The
-        smooth kept at the demonstrated straightness beside a main that stands
+        engine's) 18 -> 28 (its stood place on this read 31); the lover alone on it (its still
+        cap; seeds 0-5, relative_motion x 1, 1 +- 0.001) 15 (2) / 16 (2) / 11 (1) -> 17 (4) /
+        19 (6) / 16 (4): seeds 1 and 4 slow its still pace 0.061 -> 0.053 / 0.052 m/s (its
+        designer 0.051 / 0.053), but seed 5 slow 0.579 -> 0.666, and seeds 2, 3 slow still miss
+        on its walking pace (0.085 / 0.091 m/s, its designer 0.094 / 0.096); with the
+        straightness below kept as well, every character but the stalker 53 (11) / 114 (37) /
+        100 (18) / 115 (26). The smooth kept at the demonstrated straightness beside a main that
+        stands
         (generation.kept_straightness at most the raw step, as the lover's world places), every
         character but the stalker: 42 (6) / 107 (30) / 104 (21) / 101 (17) (orbit 14 -> 9,
         still/moving 22 -> 20 misses), but pursuit 1 (1) / 11 (7) / 9 (5) / 16 (10) (the afraid
@@ -236,7 +241,24 @@ class StepSenses:
         (14) / 14 (7) / 20 (8), held as well 9 (5) / 27 (14) / 17 (7) / 15 (5); the still cap
         on the smoothed step (generation.mean_capped, as the lover's world places) 5 (2) / 28
         (14) / 13 (8) / 12 (5), held as well 7 (2) / 30 (15) / 13 (6) / 16 (7). None kept: the
-        read's gaps and the smooth's shortfall pull the ratio opposite ways."""
+        read's gaps and the smooth's shortfall pull the ratio opposite ways.
+
+        The read's distance widened toward the bench's moving speed (STILL_MPS x the span is 4 mm
+        over 0.2 s), one run per set, its misses (the engine's) against the same 5 (2) / 29 (14) /
+        12 (6) / 15 (6): 0.025 m/s 7 (2) / 31 (18) / 14 (7) / 20 (10); 0.03 m/s 5 (2) / 32 (20) /
+        16 (10) / 19 (10): slow still/moving misses 12 -> 8, loops 3 -> 15, under the band (the
+        read holds through the loops' 0.8-2 s stops and holds its coast to the still pace; seed 41
+        loops 0.181, band from 0.199, its designer 0.254); at 0.05 m/s seeds 1 / 41 / 131 slow 0.45
+        / 0.42 / 0.43 -> 0.24 / 0.26 / 0.26, loops 0.15-0.18 (5 of 6 paths). At 0.03 m/s with the
+        still pace at the 70th percentile (0.091 m/s, the median 0.064) 4 (2) / 30 (17) / 10 (5) /
+        18 (9) (that percentile alone 7 (3) / 26 (14) / 13 (7) / 16 (6)); with the smooth kept at
+        its straightness while the read holds 9 (4) / 29 (16) / 17 (11) / 18 (9); the cap coasting
+        down from its last step at 2.4 m/s^2 7 (1) / 36 (19) / 18 (10) / 17 (6). Widened only where
+        the main's input interval is longer than the step (x 1.12 its ratio to the step, at least
+        1: 1.49 for a 30 Hz main, 6 mm; 45 and 60 Hz mains unchanged; the extrapolated jitter is
+        largest at 30 Hz, resample.py) 3 (1) / 31 (17) / 11 (6) / 18 (9): on the slow paths
+        still/moving misses 12 -> 10 but orbit, contact and speed 4 more; the loops and fast paths
+        the same. The other characters the same to the last digit. None kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
