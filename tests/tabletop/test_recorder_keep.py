@@ -121,12 +121,18 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     p = children.popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                         "--seconds", "60"], env=env, stderr=subprocess.PIPE, text=True)
+    def recording() -> bool:
+        return folder.exists() and any(f.read_bytes().count(b"\n") > 30
+                                       for f in folder.iterdir())
+
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and not (
-                folder.exists() and any(f.read_bytes().count(b"\n") > 30
-                                        for f in folder.iterdir())):
+        # the run's file is made before its engines and view are built: under a full suite at
+        # load 10+ that start took over 55 s, and a test that went on after 60 s found a
+        # header alone, which the run rightly removed when stopped before its first frame
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and not recording():
             time.sleep(0.1)
+        assert recording(), "the first run recorded no 30 frames in 240 s"
         (first,) = folder.iterdir()
         second = Recorder(folder=folder, keep=1, header={"config": {}})
         close_with_a_frame(second)
