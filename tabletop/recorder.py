@@ -41,7 +41,8 @@ from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
 from tabletop.parts import carried, header_line
 from tabletop.recorder_sync import Syncer
-from tabletop.recordings import Orders, create_part, hold, new_session, number, prune, release
+from tabletop.recordings import (Orders, create_part, hold, keep_held, let_go, new_session, number,
+                                 prune, release)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
@@ -124,6 +125,7 @@ class Recorder(Syncer):
         self._last_t: float | None = None      # the last frame's time
         self._check_at: float | None = None    # frame time of the next look (REMOVED_CHECK_S)
         self._f: Any = None
+        self._stopped: int | None = None   # the stopped part's mark (keep_held), till it goes on
         self._size = 0
         self._t0: float | None = None
         self._first_in_file = True
@@ -189,6 +191,8 @@ class Recorder(Syncer):
         self._write(header_line(self._header, order, len(self.paths), self._session,
                                 self._reloaded_before, self._state_before))
         self._f.flush()
+        let_go(self._stopped)            # a stopped part: the session's new one marks it now
+        self._stopped = None
         # said once the disk took the header: a try on a disk still full says nothing
         if resumed is not None:
             log.info("recording resumes in %s (it stopped: %s)", candidate, resumed)
@@ -253,7 +257,10 @@ class Recorder(Syncer):
                   self.frames, self.failed, f" (a new part is tried in {wait_s:g} s, then every "
                   f"{RESUME_EVERY_S:g} s)" if resumable else "")
         if self._f is not None:
-            release(self._f)
+            if empty:
+                release(self._f)
+            elif self._stopped is None:   # the run resumes this session: another run's keep
+                self._stopped = keep_held(self._f)   # leaves the stopped part (recordings)
             self._retired.append(self._f)   # the syncer syncs what it can and closes it
             self._f = None
         if empty:                        # a file without a frame is of no use
@@ -373,6 +380,8 @@ class Recorder(Syncer):
         with self._cv:
             self._unsynced.clear()
         self._stop_syncer()
+        let_go(self._stopped)
+        self._stopped = None
         try:
             if self._f is not None:
                 self._f.close()
@@ -386,7 +395,10 @@ class Recorder(Syncer):
 
     def close(self) -> None:
         """Sync every line written, then close the file."""
-        if not self._stop_syncer():
+        synced = self._stop_syncer()
+        let_go(self._stopped)            # a stopped part: the session ended
+        self._stopped = None
+        if not synced:
             log.error("recording %s: the disk did not sync the last %d lines within 30 s",
                       self.path, len(self._unsynced))
             return

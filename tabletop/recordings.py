@@ -8,9 +8,11 @@ files the oldest times). ``keep`` counts parts, so the disk holds at most ``keep
 parts of one session (``max_mb`` reached, a resume after a full disk) carry one ``session`` id, made
 anew for each session (:func:`new_session`: two runs starting together read the same highest
 order, so an order would give both one id), and closed sessions are removed whole, oldest
-first, so a kept session replays whole. A running session that alone holds more than ``keep``
-parts loses its oldest parts (each part replays on its own), only the recorder's own. Used by
-:class:`tabletop.recorder.Recorder`.
+first, so a kept session replays whole. A part a slow or full disk stopped stays marked while its
+run goes on (:func:`keep_held`): released, a disk stalled past ``max_queue`` lines let a second
+run starting in the folder remove the running session's recording. A running session that
+alone holds more than ``keep`` parts loses its oldest parts (each part replays on its own), only
+the recorder's own. Used by :class:`tabletop.recorder.Recorder`.
 """
 
 from __future__ import annotations
@@ -216,6 +218,30 @@ def release(f: Any) -> None:
     the run's own removal of its oldest parts takes it then, as another run's may."""
     try:
         fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+    except OSError:
+        pass
+
+
+def keep_held(f: Any) -> int | None:
+    """A second descriptor of the open recording ``f`` that keeps its mark (:func:`hold`) after
+    ``f`` is closed, until :func:`let_go`: a part a slow or full disk stopped while its run goes
+    on (the session resumes in a new part) is still being recorded. None when none is left."""
+    try:
+        return os.dup(f.fileno())
+    except (OSError, ValueError):
+        return None
+
+
+def let_go(fd: int | None) -> None:
+    """Unmark and close what :func:`keep_held` kept (None: nothing)."""
+    if fd is None:
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_UN)
+    except OSError:
+        pass
+    try:
+        os.close(fd)
     except OSError:
         pass
 

@@ -121,12 +121,18 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     p = children.popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                         "--seconds", "60"], env=env, stderr=subprocess.PIPE, text=True)
+    def recording() -> bool:
+        return folder.exists() and any(f.read_bytes().count(b"\n") > 30
+                                       for f in folder.iterdir())
+
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and not (
-                folder.exists() and any(f.read_bytes().count(b"\n") > 30
-                                        for f in folder.iterdir())):
+        # the run's file is made before its engines and view are built: under a full suite at
+        # load 10+ that start took over 55 s, and a test that went on after 60 s found a
+        # header alone, which the run rightly removed when stopped before its first frame
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and not recording():
             time.sleep(0.1)
+        assert recording(), "the first run recorded no 30 frames in 240 s"
         (first,) = folder.iterdir()
         second = Recorder(folder=folder, keep=1, header={"config": {}})
         close_with_a_frame(second)
@@ -137,6 +143,45 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
     assert p.returncode == 0, err
     assert len(list(read_frames(first))) >= 30   # (its header and 30 frames were seen)
     third = Recorder(folder=folder, keep=1, header={"config": {}})
+    close_with_a_frame(third)
+    assert sorted(folder.iterdir()) == [third.path]
+
+
+def test_a_recording_a_slow_disk_stopped_is_never_pruned_while_its_run_goes_on(
+        tmp_path, monkeypatch):
+    """A run whose recording stopped as the disk could not keep up goes on, and resumes its
+    session in a new part once the disk caught up: another run's start with ``keep: 1`` leaves
+    the stopped part, as it leaves one being written (it removed it: a disk stalled at load
+    20+ past 1,024 lines lost a running session); once the run closed, the next prune takes
+    it. The real syncer thread, its fdatasync held until released."""
+    import threading
+    real, gate, syncing = os.fdatasync, threading.Event(), threading.Event()
+
+    def stalled(fd: int) -> None:
+        if threading.current_thread().name == "recorder-sync":   # the first's, then the second's
+            syncing.set()
+            gate.wait(30)
+        real(fd)
+
+    folder = tmp_path / "sessions"
+    header = {"format": "tabletop-session", "version": 2}
+    first = Recorder(folder=folder, keep=1, header=header, max_queue=5)
+    monkeypatch.setattr(os, "fdatasync", stalled)
+    try:
+        first.consume(Frame(seq=0, t=1.0))
+        assert syncing.wait(10)                 # the syncer is held in the first line's sync
+        for k in range(1, 10):
+            first.consume(Frame(seq=k, t=1.0 + k / 60))
+        assert first.failed is not None and "cannot keep up" in first.failed
+        second = Recorder(folder=folder, keep=1, header=header)
+        assert first.path.exists() and second.path.exists()
+        gate.set()
+        close_with_a_frame(second)
+    finally:
+        gate.set()
+        first.close()
+    assert len(list(read_frames(first.path))) == first.frames == 6   # 1 synced, 5 waited
+    third = Recorder(folder=folder, keep=1, header=header)
     close_with_a_frame(third)
     assert sorted(folder.iterdir()) == [third.path]
 
