@@ -14,6 +14,11 @@ from tabletop.plugins.mop_files import MopError
 
 #: The creature's point its face rides on in a hybrid character (its nose).
 HYBRID_HEAD = 3
+#: A hybrid humanoid's face stands on its neck, up toward its crown (points of the projected
+#: pybullet_data humanoid), and is this tall (x its standing height): the head's own 0.17 (neck
+#: to crown) makes the example's 0.26 m mime a 38 px face on the 1280 x 720 view of the 1.2 m
+#: table (840 px/m), its eyes 3 px tall; 0.3 draws it 68 px tall (its jaw open), eyes 5 px.
+HUMANOID_NECK, HUMANOID_HEAD, HUMANOID_FACE = 5, 16, 0.3
 
 Rig = Union[PlanarRig, FaceRig, HybridRig, HumanoidRig]
 
@@ -35,9 +40,25 @@ def make_rig(c: dict) -> Rig:
     if c["kind"] == "face":
         from behaviors.mop.creatures import FaceModel
         return FaceRig(FaceModel())
+    if c["kind"] == "hybrid" and c.get("body") == "humanoid":
+        from behaviors.mop.creatures import FaceModel
+        return HybridRig(_humanoid(c), FaceRig(FaceModel()), HUMANOID_HEAD, HUMANOID_FACE,
+                         neck=HUMANOID_NECK)
     if c["kind"] == "hybrid":
         from behaviors.mop.creatures import FaceModel, creature_skeleton
         return HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), HYBRID_HEAD)
+    return _humanoid(c)
+
+
+def motion_kind(c: dict) -> str:
+    """The kind whose motions character entry ``c`` plays (its built-in clips): its ``kind``,
+    or ``humanoid_hybrid`` for a hybrid whose body is a humanoid."""
+    humanoid = c["kind"] == "hybrid" and c.get("body") == "humanoid"
+    return "humanoid_hybrid" if humanoid else c["kind"]
+
+
+def _humanoid(c: dict) -> HumanoidRig:
+    """The projected humanoid of a skeleton character (or a hybrid's humanoid body)."""
     from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf
     from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf
     urdf = c["skeleton"] or humanoid_urdf()
