@@ -47,7 +47,7 @@ from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Puppet
 from behaviors.mop.stage import MopStage
-from tabletop.plugins.mop_rigs import make_rig, motion_kind
+from tabletop.plugins.mop_rigs import check_body, make_rig, motion_kind
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
                                         action_entries, action_files, check_shared_library,
@@ -246,14 +246,10 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             raise ctx.error(f"{where}.sheet", "a sprite character needs its sheet (a JSON file)")
         if c["kind"] != "sprite":
             _refuse_unread(c, CHARACTER, ("sheet",), "sprite", "character", where, ctx)
-        if c["kind"] != "hybrid":
-            _refuse_unread(c, CHARACTER, ("body",), "hybrid", "character", where, ctx)
-        humanoid = c["kind"] == "hybrid" and c["body"] == "humanoid"
-        if c["kind"] != "skeleton":     # (a hybrid's humanoid is pybullet_data's: its face
-            # stands on that figure's neck; its view keys are read)
-            _refuse_unread(c, CHARACTER, SKELETON_KEYS[:1] if humanoid else SKELETON_KEYS,
-                           "skeleton", "character", where, ctx)
-        if (c["kind"] == "skeleton" or humanoid) and c["skeleton"] is None:
+        if c["kind"] not in ("skeleton", "hybrid"):
+            _refuse_unread(c, CHARACTER, SKELETON_KEYS, "skeleton", "character", where, ctx)
+        check_body(c, {k: f.default for k, f in CHARACTER.fields.items()}, where, ctx.error)
+        if motion_kind(c) in ("skeleton", "humanoid_hybrid") and c["skeleton"] is None:
             from behaviors.motion.deepmimic import humanoid_urdf
             try:
                 humanoid_urdf()

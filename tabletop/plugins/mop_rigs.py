@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Union
+from typing import Callable, Union
 
 from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig
 from tabletop.files import MAX_CLIP_BYTES, UnreadableText, json_loads, read_text_within
@@ -55,6 +55,28 @@ def motion_kind(c: dict) -> str:
     or ``humanoid_hybrid`` for a hybrid whose body is a humanoid."""
     humanoid = c["kind"] == "hybrid" and c.get("body") == "humanoid"
     return "humanoid_hybrid" if humanoid else c["kind"]
+
+
+def check_body(c: dict, defaults: dict, where: str, error: Callable[[str, str], Exception]
+               ) -> None:
+    """Refuse, naming its key (``error(path, message)``), what character entry ``c`` (at
+    ``where``) gives other than its ``defaults`` that its body does not read: ``body`` but on a
+    hybrid; a hybrid humanoid's own URDF (its face stands on pybullet_data's humanoid's neck);
+    a humanoid's view for a hybrid whose body is a creature (seen from above)."""
+    hybrid = c["kind"] == "hybrid"
+    for key in ("body", "skeleton", "view_yaw", "elevation", "travel") if hybrid else ("body",):
+        if c[key] == defaults[key]:
+            continue
+        if key == "body":
+            if not hybrid:
+                raise error(f"{where}.body", f"only a hybrid character takes body; a "
+                                             f"{c['kind']} character does not read it")
+        elif key == "skeleton":
+            raise error(f"{where}.skeleton", "a hybrid's humanoid is pybullet_data's (its face "
+                                             "stands on that figure's neck): it takes no skeleton")
+        elif c["body"] != "humanoid":
+            raise error(f"{where}.{key}", f"a hybrid reads {key} only with body: humanoid (a "
+                                          "creature's body is seen from above)")
 
 
 def _humanoid(c: dict) -> HumanoidRig:

@@ -39,14 +39,14 @@ def test_the_body_of_a_hybrid_is_refused_naming_its_key(tmp_path):
     # the face stands on the neck of pybullet_data's humanoid: no other URDF
     from behaviors.motion.deepmimic import humanoid_urdf
     expect(lambda e: e["characters"].append(_mime(skeleton=str(humanoid_urdf()))),
-           "engines[0].characters[2].skeleton", "a hybrid character does not read it")
+           "engines[0].characters[2].skeleton", "it takes no skeleton")
     expect(lambda e: e["characters"].append(_mime(actions=[
         {"name": "line", "template": LINE, "motion": "wag_laugh"}])),
            "engines[0].characters[2].actions[0].motion",
            "unknown motion 'wag_laugh' for a humanoid hybrid", "punch_angry")
     # a creature's body is still seen from above: no view of a humanoid
     expect(lambda e: e["characters"].append(_mime(body="creature", view_yaw=1.0, actions=[])),
-           "engines[0].characters[2].view_yaw")
+           "engines[0].characters[2].view_yaw", "only with body: humanoid")
     data = copy.deepcopy(base)                     # a humanoid's view is read
     data["engines"][0]["characters"].append(_mime(view_yaw=1.0))
     turned = build(data, tmp_path).puppets["mime"].rig.rest()
