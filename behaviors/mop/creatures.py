@@ -252,3 +252,21 @@ def hybrid_clips() -> dict[str, Clip]:
     """The hybrid creature's motions (:data:`HYBRID_MOTIONS`)."""
     bodies, faces = creature_clips(), face_clips()
     return {n: merge_clips(n, bodies[b], faces[f]) for n, (b, f) in HYBRID_MOTIONS.items()}
+
+
+# --- hybrid: a humanoid with a face -------------------------------------------------------------
+
+#: Built-in motions of the hybrid humanoid: a DeepMimic motion-capture clip (``pybullet_data``)
+#: and a facial expression of :class:`FaceModel`, played at one progress.
+HUMANOID_HYBRID_MOTIONS: dict[str, tuple[str, str]] = {
+    "walk_talk": ("walk", "talk"), "punch_angry": ("punch", "angry"),
+    "jump_surprise": ("jump", "surprise"), "dance_laugh": ("dance_a", "laugh"),
+}
+
+
+def humanoid_hybrid_clip(name: str) -> Clip:
+    """The hybrid humanoid's motion ``name`` (:data:`HUMANOID_HYBRID_MOTIONS`): its DeepMimic
+    clip's joint channels and the expression's blendshape weights in one clip."""
+    from behaviors.motion.deepmimic import load_motion, motion_path
+    body, face = HUMANOID_HYBRID_MOTIONS[name]
+    return merge_clips(name, load_motion(motion_path(body)), face_clips()[face])

@@ -183,13 +183,18 @@ class HybridRig:
 
     The face is turned half round on the body: seen from above, an animal's mouth is at its
     snout and its eyes behind it. Upright along the heading (brows at the snout, mouth at the
-    neck), the gecko read as a face lying on its back with its chin in the body."""
+    neck), the gecko read as a face lying on its back with its chin in the body.
+
+    With ``neck`` (a humanoid seen from the side), the face stands upright on the body instead:
+    its chin on the point ``neck``, its up along neck -> ``head``, so it turns with the head
+    (a cartwheel turns it over) and is not left upright beside a body upside down."""
 
     kind = "hybrid"
 
     def __init__(self, body: PlanarRig | HumanoidRig, face: FaceRig, head: int,
-                 face_size: float = 0.35) -> None:
+                 face_size: float = 0.35, neck: int | None = None) -> None:
         self.body, self.face, self.head, self.face_size = body, face, int(head), float(face_size)
+        self.neck = None if neck is None else int(neck)
         n = len(body.rest())
         self.bones = tuple(body.bones) + tuple((a + n, b + n) for a, b in face.bones)
 
@@ -198,7 +203,14 @@ class HybridRig:
         self.face.check(clip)
 
     def _join(self, body: np.ndarray, face: np.ndarray) -> np.ndarray:
-        return np.vstack([body, body[self.head] - self.face_size * face])
+        if self.neck is None:
+            return np.vstack([body, body[self.head] - self.face_size * face])
+        up = body[self.head] - body[self.neck]
+        n = float(np.hypot(up[0], up[1]))
+        ux, uy = (up / n).tolist() if n > 1e-9 else (0.0, 1.0)
+        turn = np.array([[uy, -ux], [ux, uy]])    # face x, y (rows) -> figure units
+        chin_up = face + np.array([0.0, 0.5])     # (the face's chin is at y = -0.5)
+        return np.vstack([body, body[self.neck] + self.face_size * chin_up @ turn])
 
     def pose(self, clip: Clip, progress: float) -> np.ndarray:
         return self._join(self.body.pose(clip, progress), self.face.pose(clip, progress))

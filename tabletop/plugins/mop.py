@@ -21,8 +21,9 @@ Config (see ``examples/mop.yaml``)::
 
 A ``motion`` is a built-in clip of the character (creature: walk, wag, curl, strike; face: laugh,
 surprise, angry, wink, talk; hybrid, a creature with a face whose skeletal and blendshape
-channels one action drives together: walk_talk, strike_angry, curl_surprise, wag_laugh; sprite:
-frames, its sheet in order), a DeepMimic clip name for a
+channels one action drives together: walk_talk, strike_angry, curl_surprise, wag_laugh, or with
+``body: humanoid`` pybullet_data's humanoid with a face on its neck: walk_talk, punch_angry,
+jump_surprise, dance_laugh; sprite: frames, its sheet in order), a DeepMimic clip name for a
 skeleton (walk, backflip, ...; from ``pybullet_data``), or a path to a DeepMimic ``.txt`` or a
 ``tabletop.clip`` ``.json`` file. A ``sprite`` character is a vector sprite sheet (``sheet``:
 ``{"format": "tabletop.sprites", "bones": [[a, b], ...], "frames": [[[x, y], ...], ...]}``).
@@ -46,7 +47,7 @@ from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Puppet
 from behaviors.mop.stage import MopStage
-from tabletop.plugins.mop_rigs import make_rig
+from tabletop.plugins.mop_rigs import check_body, make_rig, motion_kind
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
                                         action_entries, action_files, check_shared_library,
@@ -127,6 +128,9 @@ ACTION = Record({
 CHARACTER = Record({
     "name": Str(),
     "kind": Str(choices=("skeleton", "creature", "face", "hybrid", "sprite")),
+    "body": Optional_(Str(choices=("creature", "humanoid")),
+                      doc="hybrid: the body its face rides on (default creature; a humanoid: "
+                          "pybullet_data's)"),
     "performer": Str(),
     "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
     "heading": Number(math.pi / 2, doc="radians; the figure's up points this way"),
@@ -185,7 +189,7 @@ def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> N
     a recording embeds it, read, and checked against the character's rig (made once per
     character in ``rigs``; a face's clip with no blendshape channel stopped the build naming
     the character alone). A sprite's frames are its sheet's own."""
-    kind = c["kind"]
+    kind = motion_kind(c)
     try:
         how, found = resolve_motion(kind, motion, ctx.base)
     except MopError:
@@ -242,9 +246,10 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             raise ctx.error(f"{where}.sheet", "a sprite character needs its sheet (a JSON file)")
         if c["kind"] != "sprite":
             _refuse_unread(c, CHARACTER, ("sheet",), "sprite", "character", where, ctx)
-        if c["kind"] != "skeleton":
+        if c["kind"] not in ("skeleton", "hybrid"):
             _refuse_unread(c, CHARACTER, SKELETON_KEYS, "skeleton", "character", where, ctx)
-        if c["kind"] == "skeleton" and c["skeleton"] is None:
+        check_body(c, {k: f.default for k, f in CHARACTER.fields.items()}, where, ctx.error)
+        if motion_kind(c) in ("skeleton", "humanoid_hybrid") and c["skeleton"] is None:
             from behaviors.motion.deepmimic import humanoid_urdf
             try:
                 humanoid_urdf()
@@ -370,7 +375,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     features = {n: p.names for n, p in performers.items()}
     for c in options["characters"]:
         rig = make_rig(c)
-        loader = MotionLoader(c["kind"], ctx.base, rig)
+        loader = MotionLoader(motion_kind(c), ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]
         signed: dict[str, tuple] = {}
@@ -423,7 +428,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     stage.start_problems, stage.problem = started_without, "; ".join(started_without)
     stage.missing, stage.watched = missing, watched
     stage.configured_action = lambda c, a: configured_action(      # read afresh from disk
-        c, a, features, MotionLoader(c["kind"], ctx.base, loaders[c["name"]].rig), rate)
+        c, a, features, MotionLoader(motion_kind(c), ctx.base, loaders[c["name"]].rig), rate)
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
     for character, why in bad_window.items():      # reported with the library's problems

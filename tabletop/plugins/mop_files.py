@@ -24,6 +24,7 @@ log = logging.getLogger("tabletop")
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
            "face": ("laugh", "surprise", "angry", "wink", "talk"),
            "hybrid": ("walk_talk", "strike_angry", "curl_surprise", "wag_laugh"),
+           "humanoid_hybrid": ("walk_talk", "punch_angry", "jump_surprise", "dance_laugh"),
            "sprite": ("frames",)}
 DEEPMIMIC = ("walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
              "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin")
@@ -49,7 +50,7 @@ def resolve_motion(kind: str, motion: str, base: Path) -> tuple[str, Any]:
             return "deepmimic", motion_path(motion)
         except ClipError as exc:
             raise MopError(str(exc)) from None
-    raise MopError(f"unknown motion {motion!r} for a {kind}; built-in: "
+    raise MopError(f"unknown motion {motion!r} for a {kind.replace('_', ' ')}; built-in: "
                    f"{', '.join(BUILTIN.get(kind, ()))}, or a .json clip file")
 
 
@@ -65,6 +66,9 @@ class MotionLoader:
             how, what = resolve_motion(self.kind, motion, self.base)
             if how == "builtin" and self.kind == "sprite":
                 clip = self.rig.cycle()
+            elif how == "builtin" and self.kind == "humanoid_hybrid":
+                from behaviors.mop.creatures import humanoid_hybrid_clip
+                clip = humanoid_hybrid_clip(what)
             elif how == "builtin":
                 from behaviors.mop.creatures import creature_clips, face_clips, hybrid_clips
                 clip = {"creature": creature_clips, "face": face_clips,

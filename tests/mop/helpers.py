@@ -17,3 +17,21 @@ def widened_mirrored(seed: int, name: str, scale: float) -> np.ndarray:
                 if (key, s) == (f"mirrored_{name}", scale):
                     return x
     raise KeyError(name)
+
+
+def refused(tmp_path, mutate, *words: str, error: type = None) -> None:
+    """The designer config (:func:`tabletop.plugins.mop_table.designer_config`) changed by
+    ``mutate`` (given its engine) is refused at build with ``error`` (a ConfigError by default)
+    whose message holds every one of ``words``."""
+    import copy
+
+    import pytest
+
+    from tabletop.plugins.mop_table import build, designer_config
+    from tabletop.schema import ConfigError
+    data = copy.deepcopy(designer_config(tmp_path))
+    mutate(data["engines"][0])
+    with pytest.raises(error or ConfigError) as exc:
+        build(data, tmp_path)
+    for w in words:
+        assert w in str(exc.value), str(exc.value)

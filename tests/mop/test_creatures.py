@@ -116,3 +116,35 @@ def test_face_clips_are_weights_between_zero_and_one():
     peak = clips["surprise"].sample(0.6)
     assert clips["surprise"].channel(peak, "brows_up")[0] > 0.9
     assert np.allclose(clips["wink"].sample(0.0), 0.0)
+
+
+def test_a_humanoids_face_stands_on_its_neck_and_turns_with_its_head():
+    """The hybrid humanoid's motions (MOP section 3): each plays its motion-capture joints and
+    its expression at one progress; the face's chin is on the neck, its eyes toward the head,
+    through a cartwheel's upside-down poses too."""
+    from behaviors.motion.deepmimic import load_motion, motion_path
+    from behaviors.mop.creatures import (HUMANOID_HYBRID_MOTIONS, humanoid_hybrid_clip,
+                                         merge_clips)
+    from tabletop.plugins.mop_rigs import HUMANOID_HEAD, HUMANOID_NECK, make_rig
+    rig = make_rig({"kind": "hybrid", "body": "humanoid", "skeleton": None, "view_yaw": 0.5,
+                    "elevation": 0.25, "travel": False})
+    face = FaceModel()
+    k = len(rig.body.rest())
+    eyes = np.r_[face.part_slices["eye_left"], face.part_slices["eye_right"]] + k
+    chin = k + int(np.argmin(face.neutral[face.part_slices["outline"], 1]))
+    for name in HUMANOID_HYBRID_MOTIONS:
+        clip = humanoid_hybrid_clip(name)
+        rig.check(clip)
+        assert clip.duration == load_motion(motion_path(HUMANOID_HYBRID_MOTIONS[name][0])).duration
+    cartwheel = merge_clips("c", load_motion(motion_path("cartwheel")), face_clips()["laugh"])
+    ups = []
+    for q in np.linspace(0, 1, 41):
+        p = rig.pose(cartwheel, float(q))
+        up = p[HUMANOID_HEAD] - p[HUMANOID_NECK]
+        up /= np.linalg.norm(up)
+        ups.append(up[1])
+        # measured (standing heights): the chin at most 0.021 from the neck (the laugh's jaw
+        # opens it), the eyes 0.18 along neck -> head in every pose
+        assert np.linalg.norm(p[chin] - p[HUMANOID_NECK]) < 0.04
+        assert (p[eyes] - p[HUMANOID_NECK]).mean(axis=0) @ up > 0.15
+    assert min(ups) < -0.5                     # the cartwheel turns the head over (-0.90)

@@ -11,6 +11,8 @@ from tabletop.plugins.mop_table import EXAMPLES, RATE, build, designer_config
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
 
+from tests.mop.helpers import refused
+
 
 @pytest.mark.parametrize("clip_file", [False, True])
 def test_a_skeleton_file_that_is_no_urdf_is_refused_naming_its_key(tmp_path, clip_file):
@@ -29,15 +31,8 @@ def test_a_skeleton_file_that_is_no_urdf_is_refused_naming_its_key(tmp_path, cli
 
 
 def test_config_errors_name_the_key_or_file(tmp_path):
-    base = designer_config(tmp_path)
-
     def expect(mutate, *words, error=ConfigError):
-        data = copy.deepcopy(base)
-        mutate(data["engines"][0])
-        with pytest.raises(error) as exc:
-            build(data, tmp_path)
-        for w in words:
-            assert w in str(exc.value), str(exc.value)
+        refused(tmp_path, mutate, *words, error=error)
 
     expect(lambda e: e["characters"][0].update(performer="nobody"),
            "engines[0].characters[0].performer", "no performer 'nobody'")

@@ -216,7 +216,7 @@ def test_a_character_of_an_engine_listed_before_is_a_main_whatever_its_engine_ma
     entry, ctx = _beside_the_mop_example({"character": "mop"})
     with pytest.raises(pm.PuppetMasterError, match=r"engines\[1\]\.main: no engine makes a "
                        r"character named 'mop'; the characters are dancer, bird, salamander, "
-                       r"face, gecko \(engine 'mop'\), pal"):
+                       r"face, gecko, mime \(engine 'mop'\), pal"):
         pm.build(entry, ctx)
     entry, ctx = _beside_the_mop_example({"nearest": [{"puck": 1}, {"character": "gekko"}]})
     with pytest.raises(pm.PuppetMasterError, match=r"'gekko' \(did you mean 'gecko'\?\)"):

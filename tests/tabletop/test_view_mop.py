@@ -193,12 +193,12 @@ def test_the_example_characters_never_overlap_on_the_table():
     the others' by a limb's width and inside the table."""
     from behaviors.motion.skeleton import place
     from tabletop.plugins.mop import MotionLoader
-    from tabletop.plugins.mop_rigs import make_rig
+    from tabletop.plugins.mop_rigs import make_rig, motion_kind
     cfg = load_config(ROOT / "examples" / "mop.yaml")
     boxes = {}
     for c in cfg["engines"][0]["characters"]:
         rig = make_rig(c)
-        load = MotionLoader(c["kind"], ROOT / "examples", rig)
+        load = MotionLoader(motion_kind(c), ROOT / "examples", rig)
         clips = [load(a["motion"]) for a in c["actions"]]
         poses = [rig.rest()] + [rig.pose(clip, float(q)) for clip in clips
                                 for q in np.linspace(0, 1, 21)]
@@ -211,3 +211,57 @@ def test_the_example_characters_never_overlap_on_the_table():
         for b in names[i + 1:]:
             (alo, ahi), (blo, bhi) = boxes[a], boxes[b]
             assert (ahi < blo).any() or (bhi < alo).any(), (a, b, boxes[a], boxes[b])
+
+
+def mime(face: str, progress: float = 0.5) -> tuple[CharacterState, int]:
+    """A hybrid humanoid (the example's mime) walking, its face playing ``face``'s expression,
+    at 0.26 m tall, upright on the table; and its number of body points."""
+    from behaviors.motion.deepmimic import load_motion, motion_path
+    from behaviors.mop.creatures import face_clips, merge_clips
+    from tabletop.plugins.mop_rigs import make_rig
+    rig = make_rig({"kind": "hybrid", "body": "humanoid", "skeleton": None,
+                    "view_yaw": math.pi / 2, "elevation": 0.25, "travel": False})
+    clip = merge_clips(face, load_motion(motion_path("walk")), face_clips()[face])
+    pts = place(rig.pose(clip, progress), 0.6, 0.25, math.pi / 2, 0.26)
+    return CharacterState("mime", 0.6, 0.25, math.pi / 2, kind="hybrid", size=0.26,
+                          color=(250, 200, 160), points=pts, bones=rig.bones), len(rig.body.rest())
+
+
+def test_a_humanoids_face_is_drawn_on_its_body_and_plays_its_expression():
+    """MOP section 3's humanoid with a face: the face is drawn as a face on the body's neck
+    (its eye whites above it), and the same body with another expression changes the face's
+    pixels alone."""
+    from tabletop.plugins.mop_rigs import HUMANOID_NECK
+
+    def drawn(face: str) -> tuple[np.ndarray, CharacterState, int, Renderer]:
+        c, k = mime(face)
+        r = Renderer(TABLE, SIZE)
+        s = pygame.Surface(SIZE)
+        for j in range(8):
+            r.draw(s, Frame(seq=j, t=j / 10, characters=(c,)))
+        return rgb(s).astype(int), c, k, r
+    talk, c, k, r = drawn("talk")
+    surprise = drawn("surprise")[0]
+    face = r.map.points(c.points[k:])
+    lo, hi = face.min(axis=0).astype(int), face.max(axis=0).astype(int)
+    box = (slice(lo[1], hi[1]), slice(lo[0], hi[0]))
+    whites = (talk[box].min(axis=2) > 200) & (np.ptp(talk[box], axis=2) < 12)
+    ys, xs = np.nonzero(whites)
+    eyes = np.array([xs.mean(), ys.mean()]) + lo
+    neck = r.map.points(c.points[HUMANOID_NECK:HUMANOID_NECK + 1])[0]
+    h, cx = hi[1] - lo[1], int(face[:, 0].min() + face[:, 0].max()) // 2
+    middle = talk[lo[1] + h // 10:hi[1] - h // 10, cx - 3:cx + 4]   # down the face's middle:
+    ink = np.nonzero(middle.sum(axis=2) < 150)[0].mean() + lo[1] + h // 10   # nose and mouth
+    changed = np.abs(talk - surprise).sum(axis=2) > 60
+    body = r.map.points(c.points[:k])
+    # the body under the face (a surprised jaw drops 0.08 of the face past its chin)
+    below = slice(int(hi[1] + 0.25 * (hi[1] - lo[1])), int(body[:, 1].max()))
+    # measured: 32 px of eye whites in the face (68 px tall), 32 px above the neck and 1.4 px
+    # beside it, the nose and mouth 16 px under them (23 px above them with the face turned
+    # half round on the crown, as the gecko's); 372 px of the face change with its expression
+    # (the dropped chin 9 more, under it), none of the body under that
+    assert whites.sum() > 10
+    assert 20 < neck[1] - eyes[1] < 45 and abs(eyes[0] - neck[0]) < 6
+    assert ink - eyes[1] > 8.0                  # upright on the neck: the mouth under the eyes
+    assert changed[box].sum() > 150
+    assert not changed[below].any()
