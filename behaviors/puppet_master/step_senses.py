@@ -274,7 +274,7 @@ class StepSenses:
         kept.
 
         Seed 304's slow path (still/moving 1.109, 0.275 m/s beside a still main; its designer
-        0.455): its main stands on 22 steps (1.6% of the path; dips of 0.03-0.23 s while it
+        0.455): its main stands on 22 steps (1.4% of the path; dips of 0.05-0.17 s while it
         creeps at 0.01-0.06 m/s and turns), none a stop: this read is false on all of them
         and the 0.5 s read (_main_stands, on the grid) true on one. The matched moments walk
         (0.198 m/s, their main still on 32%); the designer, which stops on its main's seen
