@@ -258,7 +258,28 @@ class StepSenses:
         1: 1.49 for a 30 Hz main, 6 mm; 45 and 60 Hz mains unchanged; the extrapolated jitter is
         largest at 30 Hz, resample.py) 3 (1) / 31 (17) / 11 (6) / 18 (9): on the slow paths
         still/moving misses 12 -> 10 but orbit, contact and speed 4 more; the loops and fast paths
-        the same. The other characters the same to the last digit. None kept."""
+        the same. The other characters the same to the last digit. None kept.
+
+        The still cap coasting down per stop from the reactor's own speed when this read turned
+        true, by the demonstration's ratio to its speed at that moment (this read on its main,
+        43 stops, onset 0.095 m/s mean; 0.93, 0.84, 0.86, 0.85, 0.76, 0.65, 0.54 ... 0.33 over
+        0.5 s at 40 Hz), at least the still pace. Python step, the stalker alone, one run, its
+        misses (the engine's) against 5 (2) / 29 (14) / 12 (6) / 15 (6): 7 (3) / 33 (15) / 25
+        (12) / 20 (8) (a reactor still walking when the read turns true coasts on: over the
+        band on 12 fast paths, 0.39-0.56, and 8 loops, 0.44-0.59); the onset speed at most the
+        demonstration's 75th / 90th percentile (0.103 / 0.195 m/s) 7 (3) / 26 (12) / 15 (10) /
+        15 (7), 6 (3) / 28 (12) / 10 (5) / 17 (7) (loops under the band met on 2 paths, over it
+        on 4, slow over it on 4 more); the 90th over 0.25 s 7 (4) / 29 (13) / 13 (6) / 18 (9);
+        at its median (0.060 m/s, under the still pace after 0.93) the same as this read. None
+        kept.
+
+        Seed 304's slow path (still/moving 1.109, 0.275 m/s beside a still main; its designer
+        0.455): its main stands on 22 steps (1.4% of the path; dips of 0.05-0.17 s while it
+        creeps at 0.01-0.06 m/s and turns), none a stop: this read is false on all of them
+        and the 0.5 s read (_main_stands, on the grid) true on one. The matched moments walk
+        (0.198 m/s, their main still on 32%); the designer, which stops on its main's seen
+        speed under 0.03 m/s, goes 0.047-0.152 there. A lag of the causal reads on a short
+        sample, not a wrong match."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
