@@ -47,6 +47,14 @@ def run(paths: list[Path]) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     args = list(sys.argv[1:] if argv is None else argv)
+    usage = "usage: python -m bench [--soaks] [bench/NAME.py ...]"
+    if {"-h", "--help"} & set(args):
+        print(usage)
+        return 0
+    flags = [a for a in args if a.startswith("-") and a != "--soaks"]
+    if flags:   # not taken for a benchmark's name ("no such benchmark: --fast")
+        print(f"bench: unknown argument {flags[0]!r}\n{usage}", file=sys.stderr)
+        return 2
     soaks = "--soaks" in args
     args = [a for a in args if a != "--soaks"]
     paths = [Path(a) for a in args] if args else benchmarks(soaks=soaks)

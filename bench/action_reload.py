@@ -30,7 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from behaviors.motion.clips import clip_to_mapping  # noqa: E402
 from behaviors.mop.creatures import creature_clips  # noqa: E402
 from behaviors.mop.stage import MopStage  # noqa: E402
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from tabletop.config import validate_config  # noqa: E402
 from tabletop.frames import Frame  # noqa: E402
 from tabletop.kiosk.actions import ActionReloader  # noqa: E402
@@ -68,6 +68,7 @@ def _stage(tmp: Path) -> MopStage:
 
 
 def main() -> None:
+    check_flags("action_reload", sys.argv[1:])
     frame = Frame(seq=0, t=1.0)
     tick, look, follow = [], [], []
     for _ in range(ROUNDS):

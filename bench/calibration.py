@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from calibration.charuco import (DEFAULT_BOARD, MIN_CORNERS, coverage_gaps,  # noqa: E402
                                  detect_board, make_board, parse_board, solve_lens)
 from calibration.transforms import fit_homography, residuals, table_grid  # noqa: E402
@@ -112,6 +112,7 @@ def rig_figures() -> dict[str, float]:
 
 
 def main() -> None:
+    check_flags("calibration", sys.argv[1:])
     t0 = time.perf_counter()
     figures = lens_figures()
     figures.update(rig_figures())

@@ -99,25 +99,36 @@ def emit(name: str, figures: dict[str, Any], budgets: dict[str, Any]) -> None:
     sys.stdout.flush()
 
 
-def check_flags(name: str, args: Sequence[str], flags: Sequence[str],
-                lists: dict[str, Sequence[str]],
-                numbers: dict[str, tuple[float, float]] | None = None) -> None:
+def check_flags(name: str, args: Sequence[str], flags: Sequence[str] = (),
+                lists: dict[str, Sequence[str]] | None = None,
+                numbers: dict[str, tuple[float, float]] | None = None,
+                values: dict[str, str] | None = None, positional: str = "") -> None:
     """Refuse a bench's unknown command line before minutes of measuring: ``args`` may hold
-    ``flags``, ``--KEY=A,B`` with each value among ``lists[KEY]`` and ``--KEY=X`` with X a
-    number within ``numbers[KEY]`` (lo, hi); ``-h``/``--help`` prints the usage and exits 0,
-    anything else wrong exits with one line naming it and the usage."""
-    numbers = numbers or {}
-    usage = f"usage: python bench/{name}.py " + " ".join(
+    ``flags``, ``--KEY=A,B`` with each value among ``lists[KEY]``, ``--KEY=X`` with X a
+    number within ``numbers[KEY]`` (lo, hi), ``--KEY=VALUE`` for ``values[KEY]`` (its form, as
+    the usage shows it: the bench reads it) and one ``positional`` argument when named;
+    ``-h``/``--help`` prints the usage and exits 0, anything else exits with one line naming it,
+    then the usage. Every ``bench/*.py`` script calls it first (a bench taking no argument
+    too: ``--help`` ran the whole bench)."""
+    lists, numbers, values = lists or {}, numbers or {}, values or {}
+    options = " ".join(
         [f"[{f}]" for f in flags] + [f"[--{k}=NAME,...]" for k in lists]
-        + [f"[--{k}=X]" for k in numbers]) + "".join(
+        + [f"[--{k}=X]" for k in numbers] + [f"[--{k}={v}]" for k, v in values.items()]
+        + ([f"[{positional}]"] if positional else []))
+    usage = f"usage: python bench/{name}.py {options or '(no arguments)'}" + "".join(
         f"\n  {k}: {', '.join(v)}" for k, v in lists.items()) + "".join(
         f"\n  {k}: a number in {lo:g}..{hi:g}" for k, (lo, hi) in numbers.items())
     if {"-h", "--help"} & set(args):
         print(usage)
         sys.exit(0)
+    given = [a for a in args if not a.startswith("-")]
+    if len(given) > (1 if positional else 0):
+        sys.exit(f"{name}: unknown argument {given[1 if positional else 0]!r}\n{usage}")
     for a in args:
         key, _, value = a.partition("=")
-        if a in flags:
+        if a in flags or a in given:
+            continue
+        if key.startswith("--") and key[2:] in values and value:
             continue
         if key.startswith("--") and key[2:] in numbers:
             lo, hi = numbers[key[2:]]

@@ -25,7 +25,7 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from bench.follow_quality import puck_follower, run  # noqa: E402
 from bench.follow_sequences import wrong_valid  # noqa: E402
 from bench.motions import (MOCAP, back_to_back, drawn_in_form, gesture_templates,  # noqa: E402
@@ -101,6 +101,8 @@ def in_forms(seeds: range, forms: list[str]) -> dict[str, float]:
 
 
 def main() -> None:
+    check_flags("follow_widened", sys.argv[1:], ["--debug"],
+                values={"seeds": "A-B", "forms": "y,xy,r"})
     forms = next((a.split("=", 1)[1].split(",") for a in sys.argv[1:]
                   if a.startswith("--forms=")), None)
     if forms is not None and not set(forms) <= {"x", "y", "xy", "r", "xr", "yr", "xyr"}:

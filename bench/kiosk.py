@@ -35,7 +35,7 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 
-from bench.common import emit, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, stats_ms  # noqa: E402
 from tabletop.frames import Frame, Puck  # noqa: E402
 from tabletop.kiosk.supervisor import Policy, Supervisor  # noqa: E402
 from tabletop.recorder import Recorder  # noqa: E402
@@ -176,6 +176,7 @@ def recording() -> dict:
 
 
 def main() -> None:
+    check_flags("kiosk", sys.argv[1:])
     figures = recording()
     figures.update(recovery())
     emit("kiosk", figures, {"two_spares_crash_to_ready_s_max": 2.0,

@@ -63,7 +63,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from bench.xwindow import xvfb  # noqa: E402
 from tabletop.app import build_live  # noqa: E402
 from tabletop.config import load_config, validate_config  # noqa: E402
@@ -259,6 +259,7 @@ def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0,
 
 
 def main() -> None:
+    check_flags("loop", sys.argv[1:], ["--quick", "--timer"])
     quick = "--quick" in sys.argv
     cfgs = configs()
     rounds, seconds = (1, 2.0) if quick else (2, 3.0)

@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import tabletop  # noqa: E402,F401  (one BLAS thread, as the loop runs, set before numpy loads)
 import numpy as np  # noqa: E402
 
-from bench.common import emit, interleaved  # noqa: E402
+from bench.common import check_flags, emit, interleaved  # noqa: E402
 from bench.synthetic_actions import perform, template, warped_phase  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from behaviors.mop.group import FollowerGroup  # noqa: E402
@@ -318,9 +318,8 @@ def main() -> None:
     """Every section; ``--design``: DESIGN.md's case only (section 5, about 40 s)."""
     t0 = time.perf_counter()
     rng = np.random.default_rng(2024)
-    design_only = sys.argv[1:] == ["--design"]
-    if sys.argv[1:] and not design_only:
-        sys.exit(f"bench/mop.py: unknown arguments {' '.join(sys.argv[1:])} (only --design)")
+    check_flags("mop", sys.argv[1:], ["--design"])
+    design_only = "--design" in sys.argv[1:]
     figures = {} if design_only else step_costs(rng)
     if not design_only:
         figures.update(transition_costs(rng))

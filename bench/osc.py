@@ -26,7 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit, interleaved, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, interleaved, stats_ms  # noqa: E402
 from tabletop.loop import LiveInputs, Loop  # noqa: E402
 from tabletop.plugins.tracking import Tracker  # noqa: E402
 from tracking.osc_codec import decode_packet  # noqa: E402
@@ -132,6 +132,7 @@ def parse_costs() -> dict[str, float]:
 
 
 def main() -> None:
+    check_flags("osc", sys.argv[1:])
     src = OscInput("bench", port=0, table=(1.2, 0.8))
     probe = Probe(src)
     src.on_packet = probe

@@ -30,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
+from bench.common import check_flags  # noqa: E402
 from tabletop.renderer import Renderer  # noqa: E402
 
 LINES = ["tick 55   running 1.9 s", "30.8 fps   skipped 1   errors 0",
@@ -105,6 +106,7 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
+    check_flags("overlay_panel", sys.argv[1:])
     result = main()
     for k, v in result.items():
         print(k, v)

@@ -73,7 +73,7 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit, interleaved, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, interleaved, stats_ms  # noqa: E402
 from behaviors.puppet_master.engine import Behavior, Reactor  # noqa: E402
 from behaviors.puppet_master.similarity import SituationSearch  # noqa: E402
 from tabletop.realtime import realtime_threads  # noqa: E402
@@ -199,6 +199,7 @@ def replayed_least(behavior: Behavior, seed: int, seconds: float, rounds: int,
 
 
 def main() -> None:
+    check_flags("puppet_master", sys.argv[1:])
     seconds = ROUNDS / RATE + 5.0
     demo_small = demonstration("follow", 3200, 1)
     demo_large = demonstration("keep_away", 24000, 2)

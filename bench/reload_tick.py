@@ -11,11 +11,15 @@ Run: ``OPENBLAS_NUM_THREADS=1 python -m bench.reload_tick``.
 from __future__ import annotations
 
 import statistics
+import sys
 import tempfile
 import time
 from pathlib import Path
 
-from behaviors.puppet_master import designers
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from bench.common import check_flags  # noqa: E402
+from behaviors.puppet_master import designers  # noqa: E402
 from tabletop import library
 from tabletop.config import validate_config
 from tabletop.frames import Frame, Puck
@@ -42,6 +46,7 @@ def _ms(f) -> float:
 
 
 def main() -> None:
+    check_flags("reload_tick", sys.argv[1:])
     frame = Frame(seq=0, t=1.0, pucks=(Puck(1, 0.4, 0.3, 0.0),))
     for secs in (80, 600):
         tmp = Path(tempfile.mkdtemp())

@@ -25,7 +25,7 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 
 KINDS = ("behaviour", "action", "pose action")
 
@@ -78,15 +78,16 @@ def timed_review(log: Path, out: Path, columns: int) -> tuple[float, float]:
 
 
 def main(argv: list[str]) -> None:
+    check_flags("review", argv, values={"tries": "30,100,300", "columns": "3"})
     sizes, columns = [30, 100, 300], 3
     for a in argv:
-        if a.startswith("--tries="):
-            sizes = [int(x) for x in a.split("=", 1)[1].split(",")]
-        elif a.startswith("--columns="):
-            columns = int(a.split("=", 1)[1])
-        else:
-            raise SystemExit(f"usage: python bench/review.py [--tries=30,100,300] "
-                             f"[--columns=3] (unknown {a!r})")
+        try:
+            if a.startswith("--tries="):
+                sizes = [int(x) for x in a.split("=", 1)[1].split(",")]
+            else:
+                columns = int(a.split("=", 1)[1])
+        except ValueError:
+            sys.exit(f"review: {a}: expected whole numbers")
     figures: dict[str, object] = {"columns": columns}
     from PIL import Image
     with tempfile.TemporaryDirectory() as d:

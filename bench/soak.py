@@ -22,13 +22,14 @@ sys.path.insert(0, str(ROOT))
 
 import yaml  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from tabletop.kiosk.simulate import soak, soak_config  # noqa: E402
 
 RATE = 2.0
 
 
 def main() -> None:
+    check_flags("soak", sys.argv[1:])
     with tempfile.TemporaryDirectory() as d:
         path = Path(d) / "config.yaml"
         path.write_text(yaml.safe_dump(soak_config(ROOT, RATE)))

@@ -61,7 +61,7 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from behaviors.mop import shape_lead  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from bench.follow_quality import DEBUG, OPTION_SEED, puck_follower, run  # noqa: E402
@@ -228,6 +228,7 @@ def indistinguishable(name: str, p: float, other: str, templates: dict[str, np.n
 
 
 def main() -> None:
+    check_flags("spotting_reach", sys.argv[1:])
     t0 = time.perf_counter()
     templates = gesture_templates()
     figures: dict[str, float] = {}

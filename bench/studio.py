@@ -25,7 +25,7 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from behaviors.puppet_master import designers  # noqa: E402
 from tabletop.config import load_config, validate_config  # noqa: E402
 from tabletop.files import read_csv  # noqa: E402
@@ -140,6 +140,7 @@ def tp_round(background: bool, tmp: Path) -> tuple[float, ...]:
 
 
 def main() -> None:
+    check_flags("studio", sys.argv[1:])
     runs = {"pm_in_tick": (pm_round, False), "pm_worker": (pm_round, True),
             "mop_in_tick": (mop_round, False), "mop_worker": (mop_round, True),
             "touch_pose_in_tick": (tp_round, False), "touch_pose_worker": (tp_round, True)}

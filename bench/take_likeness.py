@@ -18,7 +18,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from tabletop.plugins.mop_table import EXAMPLES, build, designer_config  # noqa: E402
 from tabletop.studio.mop_likeness import likeness, too_like  # noqa: E402
 from tabletop.studio.mop_table import StudioTable  # noqa: E402
@@ -41,6 +41,7 @@ def take_of(known: str, gesture: str, how: dict, base: Path):
 
 
 def main() -> None:
+    check_flags("take_likeness", sys.argv[1:])
     rows: dict[str, list] = {"same": [], "other": []}
     spent = []
     for known in GESTURES:

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, stats_ms  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose  # noqa: E402
 from behaviors.touch_pose.models import (PREFIX, build_models, input_key,  # noqa: E402
                                          load_or_build, save)
@@ -66,6 +66,7 @@ def interleaved_both(configs: dict, rounds: int) -> tuple[dict, dict]:
 
 
 def main() -> None:
+    check_flags("touch_pose", sys.argv[1:])
     t0 = time.perf_counter()
     learned = build_models()
     learn_s = time.perf_counter() - t0

@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from bench.touch_pose_posing import bounded, distances, held_out  # noqa: E402
 from behaviors.motion.clips import (quat_conj, quat_from_rotvec, quat_mul,  # noqa: E402
                                     quat_to_rotvec)
@@ -48,6 +48,7 @@ def blended(model, parts, targets, view, scheme: str, quats: str) -> Pose:
 
 
 def main() -> None:
+    check_flags("touch_pose_blend", sys.argv[1:])
     models = learned_models()
     model, body = models.posing, models.body
     tests = [bounded(p, 0.0, 0.0) for p in held_out(body)]

@@ -23,7 +23,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from bench.common import emit, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, stats_ms  # noqa: E402
 from bench.touch_pose import Driver  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
 
@@ -63,6 +63,7 @@ def load_older(source: str, into: Path):
 
 
 def main() -> None:
+    check_flags("touch_pose_compare", sys.argv[1:], positional="COMMIT_OR_FOLDER")
     source = sys.argv[1] if len(sys.argv) > 1 else BEFORE
     folder = tempfile.TemporaryDirectory()  # the older code and a cache folder, for the run
     os.environ["XDG_CACHE_HOME"] = folder.name  # not the user's cache

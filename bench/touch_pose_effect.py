@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
 from behaviors.touch_pose.tracking import FRAME, S1, S2, PhysicalEffect, rot_diff  # noqa: E402
 
@@ -101,6 +101,7 @@ def run(models, variant: str, name: str) -> dict[str, list[float]]:
 
 
 def main() -> None:
+    check_flags("touch_pose_effect", sys.argv[1:])
     models = learned_models()
     figures: dict = {}
     for name in ("shake", "punch", "pelvis"):

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, stats_ms  # noqa: E402
 from behaviors.motion.clips import quat_from_axis_angle, quat_normalize  # noqa: E402
 from behaviors.touch_pose.humanoid import Humanoid, Pose, qrot  # noqa: E402
 from behaviors.touch_pose.physics import (D_PHYS, K_PHYS, RESET_DISTANCE,  # noqa: E402
@@ -167,6 +167,7 @@ def pybullet_error(phys: Physics, target: Pose) -> float:
 
 
 def main() -> None:
+    check_flags("touch_pose_physics", sys.argv[1:])
     body = Humanoid()
     poses: list[Pose] = []
     starts: set[int] = set()

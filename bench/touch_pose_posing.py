@@ -58,7 +58,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from behaviors.motion.clips import quat_mul  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
 from behaviors.touch_pose.humanoid import PARTS, Camera, Pose, yaw_of  # noqa: E402
@@ -176,12 +176,8 @@ def drags(models, poses: list) -> np.ndarray:
 
 def main() -> None:
     bounds = ["0/0", "0.15/30", "0.25/45", "0.15/30+"]
+    check_flags("touch_pose_posing", sys.argv[1:], values={"bounds": "R/DEG[+],..."})
     for a in sys.argv[1:]:
-        if a in ("-h", "--help"):
-            print("usage: python bench/touch_pose_posing.py [--bounds=R/DEG[+],...]")
-            sys.exit(0)
-        if not a.startswith("--bounds="):
-            sys.exit(f"touch_pose_posing: unknown argument {a!r}; usage: [--bounds=R/DEG,...]")
         bounds = a.split("=", 1)[1].split(",")
     models = learned_models()
     body = models.body

@@ -17,7 +17,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
 from behaviors.touch_pose.tracking import rot_diff  # noqa: E402
 from bench.touch_pose_drags import stroke_drag  # noqa: E402
@@ -32,6 +32,7 @@ def largest_turns(rots: list[np.ndarray], frames: list[int]) -> float:
 
 
 def main() -> None:
+    check_flags("touch_pose_turns", sys.argv[1:])
     models = learned_models()
     figures: dict[str, float] = {}
     for a in models.actions:

@@ -22,7 +22,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bench.common import emit, interleaved, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, interleaved, stats_ms  # noqa: E402
 from tabletop.plugins import tracking as plugin  # noqa: E402
 from tracking.markers import (DetectorSettings, detect_markers, make_detector,  # noqa: E402
                               marker_measurements,
@@ -115,6 +115,7 @@ def run_config(resolution: tuple[int, int], n: int) -> dict[str, float]:
 
 
 def main() -> None:
+    check_flags("tracking", sys.argv[1:])
     t0 = time.monotonic()
     figures: dict[str, object] = {}
     budgets: dict[str, object] = {}

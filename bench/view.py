@@ -38,7 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import pygame  # noqa: E402
 
-from bench.common import emit, stats_ms  # noqa: E402
+from bench.common import check_flags, emit, stats_ms  # noqa: E402
 from bench.xwindow import server_cpu_s, xvfb  # noqa: E402
 from tabletop.scene_frames import TABLE, busy_frames  # noqa: E402
 from tabletop.view import Renderer, overlay_lines  # noqa: E402
@@ -125,6 +125,7 @@ def plan(display: str) -> list[tuple[str, tuple[int, int], str]]:
 
 
 def main() -> None:
+    check_flags("view", sys.argv[1:])
     t_start = time.monotonic()
     load0 = os.getloadavg()[0]   # other processes' load slows a real window most
     busy = busy_frames(FRAMES_PER_RUN * 2)

@@ -2,7 +2,8 @@
 
 Strict at start-up: a YAML syntax error (with its line), an unknown key, a wrong type, an
 out-of-range value or a missing referenced file fails at once with one message naming the file,
-the key path and what would be right. Nothing starts half-configured.
+the key path and what would be right, then every other mistake found with its key path
+(:class:`~tabletop.schema.Mistakes`). Nothing starts half-configured.
 """
 
 from __future__ import annotations
@@ -122,9 +123,11 @@ class Component(Spec):
             raise ctx.error(f"{path}.kind", f"unknown {self.role} kind {kind!r} (known: {known})")
         options = {k: v for k, v in value.items() if k not in ("kind", "name")}
         name = value.get("name", kind)
+        since = len(ctx.errors)
         if not isinstance(name, str) or not name:
-            raise ctx.error(f"{path}.name", f"expected a non-empty string, got {shown(name)}")
-        validated = module.SCHEMA.validate(options, path, ctx)
+            ctx.note(ctx.error(f"{path}.name", f"expected a non-empty string, got {shown(name)}"))
+        validated = ctx.attempt(module.SCHEMA, options, path)
+        ctx.settle(since)
         return {"kind": kind, "name": name, **validated}
 
 

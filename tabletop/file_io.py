@@ -8,7 +8,7 @@ then renamed over the target; a folder is made whole or not at all (:func:`new_f
 
 from __future__ import annotations
 
-from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
+from errno import EDQUOT, EFBIG, EIO, ENOENT, ENOSPC, EPIPE
 import json
 import os
 import shutil
@@ -142,10 +142,17 @@ def file_on_path(folder: Path) -> Path | None:
 
 
 def folder_failure(folder: Path, exc: OSError) -> str:
-    """Why ``folder`` could not be made: "X is a file" when a file stands on its path (the
-    system says only "File exists" or "Not a directory"), else the system's reason."""
+    """Why ``folder`` could not be made or a file made in it: "X is a file" when a file stands
+    on its path (the system says only "File exists" or "Not a directory"); a folder that is
+    there but takes no new file (``/proc``, ``/sys``: the system says "No such file or
+    directory" of the folder it just listed) said to be one; else the system's reason."""
     blocker = file_on_path(folder)
-    return f"{blocker} is a file" if blocker is not None else str(exc.strerror or exc)
+    if blocker is not None:
+        return f"{blocker} is a file"
+    if exc.errno == ENOENT and folder.is_dir():
+        return ("the folder exists but no file can be made in it (a system folder such as "
+                f"/proc?; the system says: {exc.strerror or exc})")
+    return str(exc.strerror or exc)
 
 
 def is_stream(path: str | Path) -> bool:
@@ -196,7 +203,7 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp",
                                    dir=target.parent)
     except OSError as exc:  # still an OSError (callers catch it), naming the target
-        raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
+        raise OSError(exc.errno, folder_failure(target.parent, exc), str(target)) from None
     try:
         os.chmod(tmp, _new_file_mode(target))
         with _naming(target), \

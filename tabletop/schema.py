@@ -3,6 +3,8 @@
 Each spec validates a parsed YAML value and returns the value with defaults filled in, or raises
 :class:`ConfigError` naming the file, the key path (``engines[0].main.puck``) and what would be
 right. Validation is strict: unknown keys, wrong types and out-of-range values are refused.
+Mappings and lists go on past a refused key or item, so one refusal names every mistake found:
+the first as its own message, then ``(and N more: PATH: WHAT; ...)`` (:class:`Mistakes`).
 """
 
 from __future__ import annotations
@@ -19,7 +21,25 @@ from tabletop.frames import InputError
 
 
 class ConfigError(InputError):
-    """A config value is wrong; the message names the file and the key path."""
+    """A config value is wrong; the message names the file and the key path. ``at``: the key
+    path and what is wrong without the file (``view.fps: unknown key ...``), '' when unknown."""
+
+    def __init__(self, message: str, at: str = "") -> None:
+        super().__init__(message)
+        self.at = at
+
+
+class Mistakes(ConfigError):
+    """The mistakes found under one key, each already in :attr:`Context.errors` (so a mapping
+    or list holding that key does not count them twice): the first one's message, then
+    ``(and N more: PATH: WHAT; ...)``."""
+
+    def __init__(self, found: Sequence[ConfigError], file: str) -> None:
+        first, *more = found
+        rest = [e.at or str(e).removeprefix(f"{file}: ") for e in more]
+        tail = f" (and {len(rest)} more: {'; '.join(rest)})" if rest else ""
+        super().__init__(f"{first}{tail}", first.at)
+        self.found = list(found)
 
 
 class _Required:
@@ -54,9 +74,29 @@ class Context:
     base: Path
     refs: list[FileRef] = field(default_factory=list, compare=False)
     start_without: bool = False
+    errors: list[ConfigError] = field(default_factory=list, compare=False)
 
     def error(self, path: str, message: str) -> ConfigError:
-        return ConfigError(f"{self.file}: {path or '<top>'}: {message}")
+        at = f"{path or '<top>'}: {message}"
+        return ConfigError(f"{self.file}: {at}", at)
+
+    def note(self, exc: ConfigError) -> None:
+        """Keep ``exc`` among :attr:`errors` (a :class:`Mistakes`' are kept already)."""
+        if not isinstance(exc, Mistakes):
+            self.errors.append(exc)
+
+    def attempt(self, spec: Spec, value: Any, path: str) -> Any:
+        """``spec.validate(value, path, self)``; None after keeping its refusal."""
+        try:
+            return spec.validate(value, path, self)
+        except ConfigError as exc:
+            self.note(exc)
+            return None
+
+    def settle(self, since: int) -> None:
+        """Raise :class:`Mistakes` when errors were kept after the first ``since``."""
+        if len(self.errors) > since:
+            raise Mistakes(self.errors[since:], self.file)
 
     def refer(self, key: str, value: str, resolved: Path, embed: bool = True) -> None:
         """Note that the value at ``key`` names the file or folder ``resolved``."""
@@ -309,7 +349,10 @@ class ListOf(Spec):
         if len(value) < self.min_len or (self.max_len is not None and len(value) > self.max_len):
             got = f"{len(value)} item{'' if len(value) == 1 else 's'}"
             raise ctx.error(path, f"expected {self.describe()}, got {got}")
-        return [self.item.validate(v, f"{path}[{i}]", ctx) for i, v in enumerate(value)]
+        since = len(ctx.errors)
+        out = [ctx.attempt(self.item, v, f"{path}[{i}]") for i, v in enumerate(value)]
+        ctx.settle(since)
+        return out
 
 
 class Range(ListOf):
@@ -344,7 +387,10 @@ class MapOf(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         value = self.mapping(value, path, ctx)
-        return {str(k): self.value.validate(v, _join(path, str(k)), ctx) for k, v in value.items()}
+        since = len(ctx.errors)
+        out = {str(k): ctx.attempt(self.value, v, _join(path, str(k))) for k, v in value.items()}
+        ctx.settle(since)
+        return out
 
 
 class Record(Spec):
@@ -364,23 +410,25 @@ class Record(Spec):
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         value = self.mapping(value, path, ctx)
         out: dict[str, Any] = {}
+        since = len(ctx.errors)
         for key in value:
             if key not in self.fields:
                 known = ", ".join(sorted(self.fields)) or "none"
                 close = difflib.get_close_matches(str(key), sorted(self.fields), n=1)
                 hint = f"; did you mean {close[0]!r}?" if close else ""
-                raise ctx.error(_join(path, str(key)),
-                                f"unknown key (known keys here: {known}){hint}")
+                ctx.note(ctx.error(_join(path, str(key)),
+                                   f"unknown key (known keys here: {known}){hint}"))
         for key, spec in self.fields.items():
             sub = _join(path, key)
             if key in value:
-                out[key] = spec.validate(value[key], sub, ctx)
+                out[key] = ctx.attempt(spec, value[key], sub)
             elif spec.default is REQUIRED:
-                raise ctx.error(sub, f"missing; expected {spec.describe()}")
+                ctx.note(ctx.error(sub, f"missing; expected {spec.describe()}"))
             else:
                 d = spec.default
                 # A default path is relative to the config's folder, like a written one.
-                out[key] = spec.validate(d, sub, ctx) if isinstance(spec, (Record, FilePath)) else d
+                out[key] = ctx.attempt(spec, d, sub) if isinstance(spec, (Record, FilePath)) else d
+        ctx.settle(since)   # the check below reads every key valid
         if self.check is not None:
             self.check(out, path, ctx)
         return out

@@ -6,7 +6,7 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
      "stopped"), "supervisor_pid" (the kiosk supervisor's, null when unsupervised), "version",
      "time" (UTC ISO 8601), "uptime_s", "fps", "ticks", "mode" ("live" | "attract" | "one_moment";
      "stopped" in the file and last heartbeat of a kiosk that ended on purpose; "restarting",
-     with "crash", written by the supervisor after a crash:
+     with "crash", written and sent as a heartbeat by the supervisor after a crash:
      :func:`tabletop.kiosk.crash_log.restarting_status`),
      "unhealthy_sources", "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink
      failures so far), "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad,

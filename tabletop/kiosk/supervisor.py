@@ -51,6 +51,7 @@ from typing import Any, Callable, Sequence
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
 from tabletop.kiosk.crash_log import (append_crash, crash_entry, describe_exit,
                                       restarting_status)
+from tabletop.kiosk.health import Heartbeat
 from tabletop.kiosk.status_fields import status_text, utc_now, write_status
 from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.paths import kiosk_log, kiosk_paths
@@ -113,10 +114,11 @@ class Supervisor:
                  spares: int = 2, seconds: float | None = None,
                  crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5,
                  keep_fds: Sequence[int] = (), status_file: Path | None = None,
-                 name: str = "", config: Path | None = None) -> None:
-        # the status file, "restarting" after a crash until the next child writes its own;
-        # ``config``, the config file, is the one field of the installation's parts it knows
-        self.status_file, self.name = status_file, name
+                 name: str = "", config: Path | None = None,
+                 heartbeat: Heartbeat | None = None) -> None:
+        # the status file, "restarting" after a crash until the next child writes its own, also
+        # sent as a heartbeat; ``config``, the one field of the installation's parts it knows
+        self.status_file, self.name, self.heartbeat = status_file, name, heartbeat
         self._known = {} if config is None else {"config": str(config)}
         self._restarting: dict[str, Any] | None = None   # the last "restarting" written
         # open files every child holds too: the kiosk's folder lock (tabletop.kiosk.lock)
@@ -294,10 +296,15 @@ class Supervisor:
             child.reader.join(timeout=1.0)
         log.error("supervisor: the installation %s after %.1f s; restarting", child.why,
                   child.ran_s)
+        if self.status_file is None and self.heartbeat is None:
+            return
+        self._restarting = restarting_status(self.name, self.crashes, child.why,
+                                             child.ran_s, child.tail, **self._known)
+        text = status_text(self._restarting)
+        if self.heartbeat is not None:
+            self.heartbeat.send(self._restarting["name"], 0.0, 0.0, 0, text.rstrip("\n"))
         if self.status_file is not None:
-            self._restarting = restarting_status(self.name, self.crashes, child.why,
-                                                 child.ran_s, child.tail, **self._known)
-            write_status(self.status_file, status_text(self._restarting))
+            write_status(self.status_file, text)
 
     def _log_crash(self, child: Child) -> None:
         """Append the crash of ``child`` to the crash log (fsynced)."""
@@ -417,6 +424,8 @@ class Supervisor:
         finally:
             self._kill_spares()
             self._stopped()
+            if self.heartbeat is not None:
+                self.heartbeat.close()
             self.notifier.send("STOPPING=1")
             self._sock.close()
             try:
@@ -431,7 +440,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
     """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM, SIGINT or SIGHUP, or
     ``seconds`` after the installation was first ready. ``lock_fd``, the folder's kiosk lock,
     is held by every child too."""
-    k = cfg["kiosk"]
+    k, hb = cfg["kiosk"], cfg["kiosk"]["heartbeat"]
     paths = kiosk_paths(cfg, config_path.resolve().parent)
     kiosk_log(cfg, paths["log_file"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
@@ -439,7 +448,8 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
                      spares=k["spares"], seconds=seconds, crash_log_max_bytes=k["log_max_bytes"],
                      crash_log_backups=k["log_backups"],
                      keep_fds=() if lock_fd is None else (lock_fd,),
-                     status_file=paths["status_file"], name=k["name"], config=config_path)
+                     status_file=paths["status_file"], name=k["name"], config=config_path,
+                     heartbeat=Heartbeat(hb["host"], hb["port"]) if hb["enabled"] else None)
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

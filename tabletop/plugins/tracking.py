@@ -122,13 +122,10 @@ SCHEMA = Record({
                       doc="a puck whose source sent nothing for this long is coasting"),
 }, check=_check_puck_ids)
 
-_DEFAULTS_CONTEXT = Context("<tracking defaults>", Path("."))
-
-
 def complete(options: Mapping[str, Any] | None) -> dict[str, Any]:
     """The section with every missing key at its default (keys ``kind``/``name`` ignored)."""
     given = {k: v for k, v in dict(options or {}).items() if k not in ("kind", "name")}
-    return SCHEMA.validate(given, "tracking", _DEFAULTS_CONTEXT)
+    return SCHEMA.validate(given, "tracking", Context("<tracking defaults>", Path(".")))
 
 
 def tracker_settings(options: Mapping[str, Any] | None, units_per_metre: float = 1.0,

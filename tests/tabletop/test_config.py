@@ -217,7 +217,9 @@ def test_a_time_given_in_milliseconds_is_refused_saying_seconds(shipped, where, 
     (("sources", 0, "tilt_deg"), 90, "sources[0].tilt_deg: expected a number of degrees in "
      "[0.0, 40.0], got 90.0 (out of range)"),
     (("sources", 0, "resolution"), [10, 10], "sources[0].resolution[0]: expected an integer "
-     "number of pixels in [64, 7680], got 10 (out of range)"),
+     "number of pixels in [64, 7680], got 10 (out of range) (and 1 more: "
+     "sources[0].resolution[1]: expected an integer number of pixels in [64, 7680], got 10 "
+     "(out of range))"),
 ])
 def test_a_bounded_value_with_a_unit_is_refused_naming_its_unit(where, value, said):
     """stall_s, table.width, tilt_deg ... refused a value as "a number in [0.5, 600.0]": the

@@ -239,3 +239,23 @@ def test_a_json_file_given_for_a_csv_is_said_to_be_json(tmp_path, capsys):
         err = capsys.readouterr().err.splitlines()
         assert len(err) == 1 and given in err[0], err
     assert read_csv_lines(gesture)[1].shape[1] == 3      # a CSV is read as before
+
+
+# what a folder that is there but takes no new file was said to be: "No such file or directory"
+NO_NEW_FILE = "the folder exists but no file can be made in it"
+
+
+def test_a_recording_into_a_folder_that_takes_no_file_says_so(capfd):
+    """``run --record /proc/x.jsonl`` said "/proc: ... No such file or directory" of a folder
+    that exists."""
+    from tabletop.cli import main as tabletop
+    code = tabletop(["run", "--headless", "--seconds", "0.2", "--record", "/proc/x.jsonl"])
+    line = capfd.readouterr().err.strip()
+    assert code == 2 and line.startswith(
+        f"tabletop run: error: /proc: cannot start a recording there: {NO_NEW_FILE}"), line
+
+
+def test_a_written_file_in_a_folder_that_takes_no_file_says_so():
+    with pytest.raises(OSError) as err:
+        atomic_write_text(Path("/proc/tabletop-out.csv"), "x")
+    assert err.value.strerror.startswith(NO_NEW_FILE)
