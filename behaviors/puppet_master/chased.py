@@ -100,6 +100,20 @@ engine's alone; unchanged 0.298, 0.182, 132, 8; the open paths met of 432 (the e
   for every character, all five met of 720 / 1440 (the engine's): 676 (8) -> 672 (7), 1325 (35)
   -> 1325 (38), 1333 (24) -> 1327 (30), 1328 (26) -> 1314 (29).
 None kept: every one leaves the distance at 0.28-0.31 m.
+Where the distance goes (the afraid character alone, seeds 0-5 / 40-51 / 128-139 / 300-311,
+three runs with relative_motion x 1, 1 +- 0.001; misses on the open paths (the engine's) p
+chased (the engine's), chased distance; unchanged 73 (3) p 4 (3) 0.302 / 126 (9) p 33 (20)
+0.296 / 160 (7) p 30 (17) 0.283 / 192 (10) p 40 (25) 0.290, chased facing missed 45 of 107): no
+detail turn (Params.detail_clip 1e-4) chased 0.323 / 0.314 on the first two sets, so the detail
+takes 2 of the 7 cm; the correction share doubled 0.298 / 0.295 (its targets lie at the live
+distance: the matched moments hold theirs), halved 0.263-0.280. Chased misses move by 10-20
+with changes that leave the distance (Params.ratio 2 / 0.5: 97 / 91; w_rel_position 2 / 0.5: 94
+/ 113; w_velocity 2 / 0.5: 114 / 123, distance 0.264-0.281 / 0.282-0.301): a rule must win by
+more on every set. detail_clip pi/6: 79 (5) p 7 (3) / 136 (8) p 19 (11) / 163 (12) p 24 (14) /
+192 (11) p 24 (16), distance 0.293-0.309 (pi/4: 611 open, 94 chased); pi/6 only at moments
+within 0.5 m of their main, or also closing in at 0.05 m/s or more, chased 100 / 84 (0-5: 7 /
+9); relative_motion x 0.5 open 666, chased 75. None kept: each loses the open paths or seeds
+0-5 chased.
 
 Why the demonstration is made this way. Drawn as a designer sees it, the character lives in a
 band 0.1-0.2 m inside the table's edges (WALL_M), running round the hand there. It faces the

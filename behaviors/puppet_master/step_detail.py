@@ -137,6 +137,12 @@ class StepDetail(StepSenses):
             # smoothed step 663 (13), 1309 (41), chased 41 / 82 (bully misses 6 -> 22). Chased
             # distance 0.298 -> 0.290 / 0.306 m (its designer 0.40), speed 0.270 -> 0.357 /
             # 0.319 (0.247 shown): faster, not farther (generation.less_approach). Not used.
+            # The outward part alone kept (the afraid character, within 0.5 m of its main;
+            # Python step, seeds 0-5 / 40-51 / 128-139 / 300-311 x relative_motion 1, 1 +-
+            # 0.001, open misses (the engine's) p chased, against 551 (29) p 107 (65), chased
+            # 0.283-0.302 m): farther, 0.319-0.322 (facing 0.153-0.195 -> 0.193-0.205), 652 (25)
+            # p 70 (46); only while the main closes in at 0.05 m/s or more 561 (25) p 88 (62)
+            # (seeds 0-5 chased 4 -> 8); within 0.35 m 587 (30) p 102 (64). Not used.
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
