@@ -29,7 +29,7 @@ from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, sti
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
-                                    REST_BEHIND, TAKEN_PERFORMED)
+                                    REST_BEHIND)
 from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
@@ -283,8 +283,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             ok = ok and not finished_short(drive_peak[i], progress[gb], crawl[i, 0] > 0)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             ok = ok and not (rests and drive_moved[i]
-                             and drive_peak[i] - drive_from[i] < CARRY_FIRST
-                             and drive_from[i] < TAKEN_PERFORMED)
+                             and drive_peak[i] - drive_from[i] < CARRY_FIRST)
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
         # a new best confirms on samples of its own (recognition: the run does not carry over)
