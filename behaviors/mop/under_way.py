@@ -41,8 +41,9 @@ import numpy as np
 #: anchor average at least this share of its mean step over the attempt abandoned
 #: (:func:`underway`; 0: never). ``bench/follow_seeds.py --sections=sized,unrelated,sequences``
 #: (seeds 101-112): 0.6 gives the figures of 0.8 but seed 111's told unrelated share (0.0375 ->
-#: 0.0367, told mean 0.05675 -> 0.05668; untold worst and mean unmoved); 1.0 (``--sections=unrelated``) gives 0.8's unrelated
-#: figures on every seed (worst 0.1154, mean 0.0967); ``bench/follow_after.py``'s
+#: 0.0367, told mean 0.05675 -> 0.05668; untold worst and mean unmoved); 1.0
+#: (``--sections=unrelated``) gives 0.8's unrelated figures on every seed (worst 0.1154, mean
+#: 0.0967); ``bench/follow_after.py``'s
 #: ``after_stroke_gesture_recognised_share`` (seeds 13, 101): 0.3333, 0.3472 without the rule,
 #: 0.3333, 0.3333 at 0.6, 0.7, 0.8, 0.9 and 1.0 (seed 13's wrong valid 0.0054 without,
 #: 0.0040, 0.0042, 0.0046, 0.0050, 0.0050; seed 101's 0.0011 at every one).
