@@ -22,7 +22,8 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
   by ``bench.motions.ALIGNED_GAP_M`` aligned in time, so that no template performed with its
   own holds counts), with 1, 6 and 20 templates loaded;
 - after: each of the six gestures, then with no rest an unrelated stroke (diagonal, triangle,
-  spiral, wander at 0.7-1.4x): the valid share over the stroke (``bench/follow_after.py``).
+  spiral, wander at 0.7-1.4x): the valid share over the stroke; and each stroke, then with no
+  rest each gesture: the share recognised while drawn (``bench/follow_after.py``).
 - pauses: every template at 0.7-1.4x paused 0.3-2 s anywhere within 20-80% of its progress:
   the valid share over the pause, how far the progress moved, and the valid share after it
   (``bench/follow_pauses.py``).
@@ -280,7 +281,7 @@ TARGETS: dict[str, tuple[str, float]] = {
 
 
 def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]:
-    from bench.follow_after import after
+    from bench.follow_after import after, stroke_first
     from bench.follow_pauses import pauses
     from bench.follow_shapes import shapes
     rng = np.random.default_rng(seed)
@@ -294,7 +295,10 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
                                                key="sequence_20_templates")],
              "unrelated": [lambda f: unrelated(f, everything, rng)],
              # last, so the other sections draw what they drew before it was added
-             "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG)],
+             "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG),
+                       # a seed of its own: the sections after it draw what they drew before
+                       lambda f: stroke_first(f, gestures, np.random.default_rng([seed, 1]),
+                                              run)],
              # after it, for the same reason
              "pauses": [lambda f: pauses(f, everything, rng, run)],
              "shapes": [lambda f: shapes(f, everything, rng, run, true_metrics)]}
