@@ -29,15 +29,23 @@ class ConfigError(InputError):
         self.at = at
 
 
+#: The mistakes after the first that a refusal says in full (:class:`Mistakes`).
+MISTAKES_SHOWN = 3
+
+
 class Mistakes(ConfigError):
     """The mistakes found under one key, each already in :attr:`Context.errors` (so a mapping
     or list holding that key does not count them twice): the first one's message, then
-    ``(and N more: PATH: WHAT; ...)``."""
+    ``(and N more: PATH: WHAT; ...)``, at most :data:`MISTAKES_SHOWN` of them said (one cause,
+    a config copied away from its files, made 27 refusals of missing files: a line of 4,000
+    characters), the rest counted; :attr:`found` keeps them all."""
 
     def __init__(self, found: Sequence[ConfigError], file: str) -> None:
         first, *more = found
-        rest = [e.at or str(e).removeprefix(f"{file}: ") for e in more]
-        tail = f" (and {len(rest)} more: {'; '.join(rest)})" if rest else ""
+        rest = [e.at or str(e).removeprefix(f"{file}: ") for e in more[:MISTAKES_SHOWN]]
+        if len(more) > MISTAKES_SHOWN:
+            rest.append(f"{len(more) - MISTAKES_SHOWN} more not shown")
+        tail = f" (and {len(more)} more: {'; '.join(rest)})" if rest else ""
         super().__init__(f"{first}{tail}", first.at)
         self.found = list(found)
 

@@ -57,3 +57,21 @@ def test_a_check_of_keys_all_right_runs_beside_a_mistake_elsewhere() -> None:
     assert found[0] == "tracking.puck_ids.one: expected a marker id (a whole number) as the key"
     assert len(found) == 4
 
+
+
+# six mistakes: the first, three said after it, two counted
+SIX = FOUR + "recorder: {bogus: 2}\n"
+
+
+def test_many_mistakes_say_the_first_few_and_count_the_rest() -> None:
+    """A config copied away from its files refuses every file it names: the line says the first
+    mistakes and counts the others; every one is kept."""
+    with pytest.raises(ConfigError) as refused:
+        validate_config(yaml.safe_load(SIX + "tracking: {bogus: 1}\n"), "table.yaml")
+    found, said = refused.value.found, str(refused.value)
+    assert len(found) == 6
+    assert " (and 5 more: " in said and said.endswith("; 2 more not shown)"), said
+    for e in found[1:4]:
+        assert e.at in said
+    for e in found[4:]:
+        assert e.at not in said
