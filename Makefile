@@ -81,14 +81,15 @@ kernels: $(KERNELS) $(EARLY_STOP)
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)
 
-# The suite runs in TEST_WORKERS worker processes (pytest-xdist): three on the two-core target
+# The suite runs in TEST_WORKERS worker processes (pytest-xdist): four on the two-core target
 # machine, so that one worker's waits (live runs, sockets, `tabletop` subprocesses) are another's
-# CPU time (quiet machine: 167 s against 195-212 s with two). A worker that runs out of tests
+# CPU time (quiet machine, 2,136 tests: 231 s against 252-270 s with three; with 2,000 tests
+# three took 167 s against 195-212 s with two). A worker that runs out of tests
 # takes half of another's queue. The project's byte-code (the benches' and tests' helpers too)
 # is compiled first: the many `tabletop` subprocesses of the tests then load it, not the sources.
 # So are pytest's rewritten test modules (tests/rewritten.py), on every core: each worker imports
 # them all, and rewriting their asserts was two thirds of its collection (9.5 -> 2.8 CPU s).
-TEST_WORKERS ?= 3
+TEST_WORKERS ?= 4
 test: $(STAMP) kernels
 	$(PY) -m compileall -q -j0 tabletop behaviors tracking calibration bench tests >/dev/null
 	$(PY) -m tests.rewritten
