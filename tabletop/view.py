@@ -255,6 +255,10 @@ class ProjectorView:
         from tabletop.studio.draw import NamePrompt
         self.prompt = NamePrompt()  # F2: type a new name for the item in play (studio)
 
+    def _notice_lines(self) -> list[str]:
+        """The notices' overlay lines now (:attr:`notices`' callables, in order)."""
+        return [n for fn in self.notices for n in fn()]
+
     def consume(self, frame: Frame) -> None:
         if self.headless and not self._said_headless:  # once running, not while starting
             self._said_headless = True
@@ -269,7 +273,7 @@ class ProjectorView:
             now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
             if self._overlay is None:
                 *_, self._head = overlay_steps(frame, self.stats)
-                self._notes, self._overlay_t = [n for fn in self.notices for n in fn()], now
+                self._notes, self._overlay_t = self._notice_lines(), now
             elif self._refresh is None and now >= self._overlay_t + OVERLAY_REFRESH_S:
                 self._refresh, self._overlay_t = self._refreshing(frame), now
             if self._refresh is not None:
@@ -315,7 +319,7 @@ class ProjectorView:
             if lines is None:
                 yield
         assert lines is not None
-        notes = [n for fn in self.notices for n in fn()]
+        notes = self._notice_lines()
         for line in lines + notes:
             for cell in screens.cells(line):
                 screens.panel_line(cell)   # the panel is composed from these when it is drawn
@@ -365,7 +369,7 @@ class ProjectorView:
             # cleared and filled again, the heap growing as it filled (bench/gallery_soak.py)
             # the lines the shown overlay would have: a kiosk's refused config edit is
             # seen from afar (its notice was left out)
-            lines = overlay_lines(frame, self.stats, [n for fn in self.notices for n in fn()],
+            lines = overlay_lines(frame, self.stats, self._notice_lines(),
                                   suspected(frame, self.renderer.lives.presences))
             self.renderer.draw_overlay(surface, lines, keep=False)
         self.snapshots.save(surface)
