@@ -98,13 +98,16 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
             f"expected header {','.join(required)}, got {','.join(header)}")
     data: list[list[float]] = []
     numbers: list[int] = []
+    unended = len(rows) - 1 if text[-1:] not in ("\n", "\r") else -1   # (its last line's row)
     for i in range(first + 1, len(rows)):
         r = rows[i]
         if not any(c.strip() for c in r):
             continue
+        cut = CUT_SHORT if i == unended else ""
         if len(r) != len(header):
             raise FileFormatError(
-                f"{p}: line {i + 1}: {len(r)} values, expected {len(header)} ({','.join(header)})")
+                f"{p}: line {i + 1}: {len(r)} value{'s' * (len(r) != 1)}, expected "
+                f"{len(header)} ({','.join(header)}){cut}")
         vals = []
         for name, cell in zip(header, r):
             try:
@@ -113,15 +116,44 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
                 v = None
             if v is None or not math.isfinite(v):
                 raise FileFormatError(f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is "
-                                      f"not a {'number' if v is None else 'finite number'}")
+                                      f"not a {'number' if v is None else 'finite number'}{cut}")
             vals.append(v)
         data.append(vals)
         numbers.append(i + 1)
+    if numbers and numbers[-1] == unended + 1:
+        _check_last_row_whole(p, numbers[-1], header[-1], [rows[n - 1][-1] for n in numbers])
     if len(data) < min_rows:
         raise FileFormatError(
             f"{p}: {what} has {len(data)} data row(s), needs at least {min_rows}")
     return (header, np.asarray(data, dtype=float).reshape(len(data), len(header)),
             np.asarray(numbers, dtype=int))
+
+
+CUT_SHORT = " (the file ends there without a line end: cut short while it was written?)"
+"""Said of a refused last row that has no line end."""
+
+
+def _written_digits(cell: str) -> tuple[int, int]:
+    """Digits a number was written with: (after its point, in its exponent)."""
+    mantissa, _, exponent = cell.strip().lower().partition("e")
+    return len(mantissa.partition(".")[2]), sum(c.isdigit() for c in exponent)
+
+
+def _check_last_row_whole(path: Path, line: int, column: str, cells: list[str]) -> None:
+    """Refuse a CSV whose last row, not ended by a line end, was evidently cut short while the
+    file was written (a copy interrupted, a recorder stopped): its last value written with
+    fewer digits than that column's value in every other row (``-0.000287`` cut to ``-0.``
+    still reads as a number). ``line``: the last row's file line; ``cells``: the last
+    column's cells, row by row."""
+    if len(cells) < 2:
+        return
+    last = _written_digits(cells[-1])
+    fewest = tuple(min(d) for d in zip(*map(_written_digits, cells[:-1])))
+    if last[0] < fewest[0] or last[1] < fewest[1]:
+        raise FileFormatError(
+            f"{path}: line {line}: column {column!r}: {cells[-1].strip()!r} has fewer digits "
+            f"than in every other row{CUT_SHORT[:-1]}; if the row is whole, end it with a line "
+            "end)")
 
 
 def check_increasing(t: np.ndarray, path: str | Path, column: str = "t",

@@ -1,0 +1,34 @@
+"""A kiosk whose MOP template is cut short while its action plays (a copy interrupted inside the
+last row's last value, which still reads as a number): the cut is listed with its file and
+line, and the characters play the action from its last good version."""
+
+import numpy as np
+
+from tabletop.kiosk.actions import ActionReloader
+from tabletop.kiosk.simulate import SimClock
+from tests.kiosk.running import kiosk_built
+from tests.kiosk.test_bad_action_start import drawing_config
+
+
+def test_a_template_cut_inside_its_last_value_keeps_its_last_good_version(tmp_path):
+    cfg_path, good = drawing_config(tmp_path)
+    clock = SimClock()
+    inst, refused = kiosk_built(cfg_path, clock=clock)
+    assert refused is None
+    stage = inst.engines[0]
+    before = {n: stage.templates[n]["line"][1].copy() for n in ("walker", "lone")}
+    (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
+    reloader.every_s = 0.0
+    inst.loop.inputs.open()
+    for k in range(60):
+        inst.loop.tick()
+        clock.advance(1 / 30)
+        if k == 10:        # the last value '-0.001098' cut to '-0.0010'
+            (tmp_path / "line.csv").write_text(good["line.csv"].rstrip("\n")[:-2])
+    inst.loop.close()
+    last = len(good["line.csv"].splitlines())
+    for name, samples in before.items():
+        assert np.array_equal(stage.templates[name]["line"][1], samples), name
+    cut = [e for e in stage.start_problems if "line.csv" in e]
+    assert len(cut) == 2 and all(f"line.csv: line {last}: " in e and "cut short" in e
+                                 for e in cut), stage.start_problems
