@@ -41,6 +41,19 @@ def unknown_names(names: list[str], known: set[str]) -> str:
 # encountered in cast" on stderr); at a million the other features have no say already.
 MAX_SPAN = 10_000
 MAX_WEIGHT = 1e6
+# The floats with no bound of their own, each bounded where a larger value means nothing more
+# (a typo, or a value in another unit): min_speed at 1 m/s (the shipped demonstrations' pucks
+# are at most 0.39-1.04 m/s fast, their mains 0.37-0.58: above it no sample has a movement
+# direction); detail_clip at a half turn (angles wrap); ratio 1/1000..1000 (the other search
+# once in 1,001 steps, 25 s at 40 Hz: no balance left); balance_gain at 30, the Balancer's
+# log k limit (one step swings k from one limit to the other); max_extrapolation at 1 s (a
+# pose is carried at most one input interval ahead: a main sampled at 1 Hz or faster);
+# half_life at MAX_SPAN samples (as the spans). max_turn_rate and catch_up are bounded by the
+# rate: a half turn a step (the look cannot turn more in one), the whole way in one step.
+MAX_MIN_SPEED = 1.0
+MAX_RATIO = 1000.0
+MAX_BALANCE_GAIN = 30.0
+MAX_EXTRAPOLATION_S = 1.0
 
 #: The unit a field's refusal names ("min_speed: -1 must be >= 0 m/s"); the rest are ratios,
 #: weights and counts without one.
@@ -221,3 +234,25 @@ class Params:
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
                                      f"{'> 0' if positive else '>= 0'}{_unit(f.name)}", f.name)
+            self._check_most(f.name, float(v))
+
+    def _check_most(self, name: str, v: float) -> None:
+        """Raise ParameterError for field ``name``'s value ``v`` (over its lower bound) beyond
+        its range (:data:`MAX_MIN_SPEED` ...), naming the range and why it ends there."""
+        rate = f"at rate_hz {self.rate_hz:g}"
+        most = {"min_speed": (MAX_MIN_SPEED, ""), "detail_clip": (math.pi, "a half turn"),
+                "ratio": (MAX_RATIO, ""), "balance_gain": (MAX_BALANCE_GAIN, ""),
+                "max_extrapolation": (MAX_EXTRAPOLATION_S, "milliseconds given?"
+                                      if v / 1000 <= MAX_EXTRAPOLATION_S else ""),
+                "half_life": (MAX_SPAN, ""),
+                "max_turn_rate": (math.pi * self.rate_hz, f"a half turn a step {rate}"),
+                "catch_up": (float(self.rate_hz), f"the whole way in one step {rate}")}
+        least = 1 / MAX_RATIO if name == "ratio" else 0.0
+        if name not in most or least <= v <= most[name][0]:
+            return
+        hi, why = most[name]
+        lo = ("over 0 and at most" if name in ("detail_clip", "balance_gain") else
+              "from 0 (from the demonstration) to" if name == "max_turn_rate" else
+              f"from {least:g} to")
+        raise ParameterError(f"behaviour parameter {name}: {v!r} must be {lo} {hi:.6g}"
+                             f"{_unit(name)}" + (f" ({why})" if why else ""), name)

@@ -186,6 +186,19 @@ def test_the_help_names_every_parameter():
     ("share_window=10001", ["--param", "share_window", "from 1 to 10000"]),
     ("w_velocity=1e20", ["--param", "w_velocity", "from 0 to 1e+06"]),
     ("w_room=1e300", ["--param", "w_room", "from 0 to 1e+06"]),
+    # each ran to the end and wrote a reactor, 1e300 as well as 1 (a typo, another unit)
+    ("min_speed=5", ["--param", "min_speed: 5.0 must be from 0 to 1 m/s"]),
+    ("detail_clip=100", ["--param", "detail_clip: 100.0 must be over 0 and at most 3.14159 rad"]),
+    ("ratio=1e300", ["--param", "ratio: 1e+300 must be from 0.001 to 1000"]),
+    ("ratio=1e-300", ["--param", "ratio: 1e-300 must be from 0.001 to 1000"]),
+    ("balance_gain=1e300", ["--param", "balance_gain: 1e+300 must be over 0 and at most 30"]),
+    ("max_extrapolation=100", ["--param", "max_extrapolation: 100.0 must be from 0 to 1 s "
+                               "(milliseconds given?)"]),
+    ("catch_up=1e300", ["--param", "catch_up: 1e+300 must be from 0 to 40 1/s"]),
+    ("half_life=1e300", ["--param", "half_life: 1e+300 must be from 0 to 10000 samples"]),
+    ("max_turn_rate=1e300", ["--param", "max_turn_rate: 1e+300 must be from 0",
+                             "to 125.664 rad/s (a half turn a step at rate_hz 40)"]),
+    ("catch_up=-inf", ["--param", "catch_up: -inf is not a finite number"]),
 ])
 def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, param, words):
     d, _ = files
