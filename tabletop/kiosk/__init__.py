@@ -1,7 +1,8 @@
 """The unattended gallery table: supervision, health, attract mode and live configuration.
 
 - :mod:`~tabletop.kiosk.supervisor` runs the installation in a child process and restarts it
-  after a crash (with back-off and a crash log) or a stall (no frame for ``stall_s``);
+  after a crash (with back-off and a crash log) or a stall (no frame for ``stall_s``),
+  each run a :mod:`~tabletop.kiosk.child` (its process, warm spare, stderr tail);
   :mod:`~tabletop.kiosk.supervised` is that child's side (it ends when the supervisor is gone);
   :mod:`~tabletop.kiosk.paths` names the kiosk's own files (status, logs, last good config);
 - :mod:`~tabletop.kiosk.notify` speaks systemd's notify protocol (READY, WATCHDOG) from the

@@ -44,11 +44,12 @@ import sys
 import tempfile
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
+from tabletop.kiosk.child import Child, child_env, end_child, start_child
 from tabletop.kiosk.crash_log import (append_crash, crash_entry, describe_exit,
                                       restarting_status)
 from tabletop.kiosk.health import Heartbeat
@@ -76,31 +77,6 @@ class Policy:
             return 0.0
         lo, hi = self.backoff_s
         return min(hi, lo * 2.0 ** (failures - 2))
-
-
-@dataclass
-class Child:
-    """One run of the installation as seen by the supervisor."""
-
-    process: subprocess.Popen
-    started: float
-    tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=40))
-    ready_at: float | None = None
-    reloading_at: float | None = None  # its RELOADING=1 (a config edit's rebuild), until READY=1
-    last_ping: float | None = None
-    reader: threading.Thread | None = None
-    exit_fd: int | None = None        # a pidfd, readable when the process ends (Linux >= 5.3)
-    warm: bool = False                # a spare that was prepared before its start
-    why: str = ""                     # how it failed, for the crash log
-    number: int = 0                   # which start of the supervisor (1, 2, ...)
-    ended: float | None = None
-    ran_s: float = 0.0                # seconds from its start to its end
-    muted: bool = False               # its stderr is no longer echoed (see Supervisor._watch)
-
-    def close(self) -> None:
-        if self.exit_fd is not None:
-            os.close(self.exit_fd)
-            self.exit_fd = None
 
 
 class Supervisor:
@@ -155,37 +131,15 @@ class Supervisor:
     # --- one child --------------------------------------------------------------------------
 
     def _process(self, spare: bool) -> Child:
-        # TABLETOP_DEBUG: an escaping exception prints its traceback, for the crash log
-        # TABLETOP_SUPERVISOR_PID: the installation follows this process (follow_supervisor)
-        # PYTHONSAFEPATH (Python 3.11+): ``python -m tabletop`` puts the current folder first
-        # on the import path, so a gallery folder holding a copy of ``behaviors/`` (for its
-        # library) or ``tracking/`` ran that copy's code instead of the installed one's
-        env = dict(self.env, NOTIFY_SOCKET=str(self.socket_path), TABLETOP_SUPERVISED="1",
-                   TABLETOP_SUPERVISOR_PID=str(os.getpid()),
-                   TABLETOP_RESTARTS=str(self.starts), TABLETOP_DEBUG="1", PYTHONSAFEPATH="1")
-        env.pop("WATCHDOG_USEC", None)
-        env.pop("WATCHDOG_PID", None)
-        if spare:
-            env["TABLETOP_WAIT_GO"] = "1"
-        p = subprocess.Popen(self.command, env=env,
-                             stdin=subprocess.PIPE if spare else subprocess.DEVNULL,
-                             stderr=subprocess.PIPE, text=True, errors="replace",
-                             pass_fds=self.keep_fds)
-        child = Child(p, self.clock())
-        try:
-            child.exit_fd = os.pidfd_open(p.pid)
-        except (AttributeError, OSError):          # older kernels: polled every 50 ms
-            child.exit_fd = None
-        child.reader = threading.Thread(target=self._read_stderr, args=(child,), daemon=True)
-        child.reader.start()
-        return child
+        env = child_env(self.env, self.socket_path, self.starts, spare)
+        return start_child(self.command, env, spare, self.keep_fds, self.clock, self.echo)
 
     def _spawn(self) -> Child:
         spare = None
         while self._spares and spare is None:
             spare = self._spares.pop(0)
             if spare.process.poll() is not None:  # a spare that died waiting
-                self._end(spare)
+                end_child(spare)
                 spare = None
         if spare is not None:
             try:
@@ -196,7 +150,7 @@ class Supervisor:
                 child = spare
                 child.started, child.warm = self.clock(), True
             except (OSError, ValueError):
-                self._end(spare)
+                end_child(spare)
                 child = self._process(False)
         else:
             child = self._process(False)
@@ -213,25 +167,10 @@ class Supervisor:
         while len(self._spares) < self.spares:
             self._spares.append(self._process(True))
 
-    @staticmethod
-    def _end(child: Child) -> None:
-        if child.process.poll() is None:
-            child.process.kill()
-        child.process.wait()
-        child.close()
-
     def _kill_spares(self) -> None:
         for spare in self._spares:
-            self._end(spare)
+            end_child(spare)
         self._spares = []
-
-    def _read_stderr(self, child: Child) -> None:
-        assert child.process.stderr is not None
-        for line in child.process.stderr:
-            child.tail.append(line.rstrip("\n"))
-            if self.echo and not child.muted:
-                sys.stderr.write(line)
-                sys.stderr.flush()
 
     def _messages(self, timeout: float, child: Child | None = None) -> list[str]:
         """Notify messages waiting or arriving within ``timeout`` s; returns early when

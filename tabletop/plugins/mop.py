@@ -49,11 +49,11 @@ from behaviors.mop.puppetry import Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_rigs import check_body, make_rig, motion_kind
 from tabletop.plugins.mop_stream import check_stream
-from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
-                                        action_entries, action_files, check_shared_library,
-                                        configured_action, configured_actions, library_actions,
-                                        library_names, load_template, resolve_motion,
-                                        save_to_library)
+from tabletop.plugins.mop_files import (MopError, MotionLoader, action_entries, action_files,
+                                        configured_action, configured_actions, load_template,
+                                        resolve_motion)
+from tabletop.plugins.mop_library import (WINDOW_RANGE, ActionsFile, check_shared_library,
+                                          library_actions, library_names, save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext

@@ -52,7 +52,7 @@ class RunOnlyTakes:
         """Save the takes kept for this run only into ``lib`` (a config edit gives the engine
         a library: the rebuild would drop them), each under the next free ``takeN`` when the
         library has its name (a take1 of an earlier session); one line each, saved or why not."""
-        from tabletop.plugins.mop_files import save_to_library
+        from tabletop.plugins.mop_library import save_to_library
         st, c, lines = self.stage, self.character, []
         for name in self.run_only:
             if name not in st.templates[c]:
@@ -82,6 +82,6 @@ class RunOnlyTakes:
         """The first ``takeN`` that is none of the names ``lib`` holds for the character, nor
         of its actions."""
         from behaviors.mop.take import free_take_number
-        from tabletop.plugins.mop_files import library_names
+        from tabletop.plugins.mop_library import library_names
         taken = library_names(lib, self.character) | set(self.stage.templates[self.character])
         return f"take{free_take_number(taken)}"

@@ -2,8 +2,8 @@
 
 The take is the character's performer; training is the stage's (a new action, followed at once,
 its followers built in the stage's worker); kept takes are the engine's action library
-(:func:`tabletop.plugins.mop_files.save_to_library`), reloaded when its files change: new and fixed
-actions are followed at once, removed ones dropped, a bad file reported and skipped.
+(:func:`tabletop.plugins.mop_library.save_to_library`), reloaded when its files change: new and
+fixed actions are followed at once, removed ones dropped, a bad file reported and skipped.
 """
 
 from __future__ import annotations
@@ -195,7 +195,7 @@ class MopTarget(RunOnlyTakes):
     def _template_csv(self) -> tuple[str, str]:
         """The stage's take as its keep saves the template: t and the performer's features."""
         from tabletop.files import format_csv
-        from tabletop.plugins.mop_files import template_table
+        from tabletop.plugins.mop_library import template_table
         take = self.stage.take
         samples = np.asarray(take.samples(), dtype=float)
         names = self.stage.performers[take.performer].names
@@ -262,7 +262,7 @@ class MopTarget(RunOnlyTakes):
                 "(give it library: FOLDER in the config)")
 
     def _entries(self) -> list[dict]:
-        from tabletop.plugins.mop_files import read_library
+        from tabletop.plugins.mop_library import read_library
         return read_library(self.lib, self.character) if self.lib is not None else []
 
     def items(self) -> list[str]:
@@ -299,13 +299,13 @@ class MopTarget(RunOnlyTakes):
         once, and the character's window saved in its actions.yaml (atomically), read at the
         next start. The message gives the window the follower runs with: shared with other
         characters, it is the largest they set."""
-        from tabletop.plugins.mop_files import WINDOW_RANGE
+        from tabletop.plugins.mop_library import WINDOW_RANGE
         lo, hi = WINDOW_RANGE
         old = self.window
         new = min(hi, max(lo, old + sign * WINDOW_STEP))
         own = self.stage.windows.get(self.character)
         if self.lib is not None and new != own:
-            from tabletop.plugins.mop_files import write_library
+            from tabletop.plugins.mop_library import write_library
             with self._locked():
                 write_library(self.lib, self.character, self._entries(), window=new)
             if self._poller is not None:
@@ -325,14 +325,14 @@ class MopTarget(RunOnlyTakes):
         self.kept = name     # every kept action of a character plays; this one is selected
 
     def _write(self, entries: list[dict]) -> None:
-        from tabletop.plugins.mop_files import write_library
+        from tabletop.plugins.mop_library import write_library
         assert self.lib is not None
         write_library(self.lib, self.character, entries)
 
     def _locked(self) -> ContextManager[None]:
         """The library's lock, held while its entries are read, changed and written (another
         run may be keeping into it). InputError without a library."""
-        from tabletop.plugins.mop_files import library_lock
+        from tabletop.plugins.mop_library import library_lock
         if self.lib is None:
             raise InputError(f"engine {self.stage.name!r} has no library: its takes are kept "
                              "for this run only, under the names they were kept as")

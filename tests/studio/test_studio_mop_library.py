@@ -57,7 +57,7 @@ import sys
 from pathlib import Path
 import numpy as np
 sys.path.insert(0, {root!r})
-from tabletop.plugins.mop_files import save_to_library
+from tabletop.plugins.mop_library import save_to_library
 for i in range(40):
     save_to_library(Path({lib!r}), "face", "{who}%d" % i, np.zeros((5, 2)), ("dx", "dy"),
                     "talk", 30.0)
@@ -70,7 +70,7 @@ def test_two_runs_keeping_into_one_library_at_once_keep_every_take(tmp_path):
     of 80 (the others' templates on disk, named by no entry)."""
     import subprocess
     import sys
-    from tabletop.plugins.mop_files import read_library
+    from tabletop.plugins.mop_library import read_library
     root = str(Path(__file__).resolve().parents[2])
     runs = [subprocess.Popen([sys.executable, "-c", KEEPER.format(root=root, lib=str(tmp_path),
                                                                   who=who)]) for who in "ab"]
@@ -95,7 +95,7 @@ HOLDER = """
 import sys, time
 sys.path.insert(0, {root!r})
 from pathlib import Path
-from tabletop.plugins.mop_files import library_lock
+from tabletop.plugins.mop_library import library_lock
 with library_lock(Path({lib!r}), "face"):
     print("held", flush=True)
     time.sleep(600)
@@ -176,7 +176,7 @@ def test_a_config_edit_saves_a_take_kept_for_this_run_only_under_a_free_name(tmp
     has a take1 from an earlier session: the take is saved as the next free takeN, not dropped."""
     from tabletop.config import validate_config
     from tabletop.kiosk.runner import Runner
-    from tabletop.plugins.mop_files import save_to_library
+    from tabletop.plugins.mop_library import save_to_library
     engine, table, cfg = kept_without_library(tmp_path)
     performer, samples = engine.templates["face"]["take1"]
     earlier = samples[::-1].copy()
@@ -232,7 +232,7 @@ def test_keeps_while_another_run_stalls_on_the_library_leave_one_waiter(tmp_path
     import sys
     import threading
     from tabletop.frames import InputError
-    from tabletop.plugins.mop_files import library_lock
+    from tabletop.plugins.mop_library import library_lock
     root = str(Path(__file__).resolve().parents[2])
     lib = tmp_path / "lib"
     (lib / "face").mkdir(parents=True)

@@ -42,7 +42,7 @@ def _template(p: Path) -> None:
 
 
 def _actions(p: Path) -> None:
-    from tabletop.plugins.mop_files import ActionsFile
+    from tabletop.plugins.mop_library import ActionsFile
     ActionsFile(p.parent.parent, p.parent.name).entries()
 
 
