@@ -10,9 +10,11 @@ from __future__ import annotations
 import time
 from typing import Callable
 
+import numpy as np
+
+from tabletop.files import MAX_TEMPLATE_BYTES, FileFormatError, read_csv
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
-from tabletop.files import MAX_TEMPLATE_BYTES, read_csv
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
 
@@ -32,6 +34,18 @@ def check_pucks(options: dict, path: str, ctx: Context) -> None:
                 raise ctx.error(where, f"puck {pid} is also {key}[{first[pid]}]; give each "
                                        "puck once")
             first[pid] = j
+    for j, p in enumerate(options["performers"]):
+        for i, g in enumerate(p["gestures"]):
+            try:   # read at load as a MOP template is: the key is named, not only the file
+                read_gesture(g)
+            except FileFormatError as exc:
+                raise ctx.error(f"{path}.performers[{j}].gestures[{i}]", str(exc)) from None
+
+
+def read_gesture(path: str) -> tuple[list[str], np.ndarray]:
+    """A gesture CSV's columns and rows (``t,dx,dy``: s, m, m from the start)."""
+    return read_csv(path, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
+                    max_bytes=MAX_TEMPLATE_BYTES)
 
 
 SCHEMA = Record({
@@ -88,8 +102,7 @@ class ScriptedSource:
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
     performers = {}
     for k, p in enumerate(options["performers"]):
-        gestures = [read_csv(g, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
-                             max_bytes=MAX_TEMPLATE_BYTES) for g in p["gestures"]]
+        gestures = [read_gesture(g) for g in p["gestures"]]
         arrays = [data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
                   for cols, data in gestures]
         performers[p["puck"]] = GesturePerformer(arrays, tuple(p["home"]),
