@@ -35,6 +35,23 @@ def kiosk_built(cfg_path: Path, **runner: Any) -> tuple[Any, str | None]:
     return built._build(built.cfg), refused
 
 
+def ticked_with_edits(inst: Any, clock: Any, ticks: int, edits: dict[int, tuple[Path, str]]
+                      ) -> None:
+    """Tick ``inst``'s loop ``ticks`` times on the simulated ``clock`` (1/30 s a tick), its
+    action reloader looking at every tick, writing ``edits[k]`` (a file and its new text) after
+    tick k; the loop is closed after."""
+    from tabletop.kiosk.actions import ActionReloader
+    (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
+    reloader.every_s = 0.0
+    inst.loop.inputs.open()
+    for k in range(ticks):
+        inst.loop.tick()
+        clock.advance(1 / 30)
+        if k in edits:
+            edits[k][0].write_text(edits[k][1])
+    inst.loop.close()
+
+
 @contextmanager
 def running(inst: Any, seconds: float, run_out: bool = False) -> Iterator[None]:
     """``inst``'s loop run for at most ``seconds`` in a thread while the block runs; after the

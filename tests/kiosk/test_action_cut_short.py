@@ -4,9 +4,8 @@ line, and the characters play the action from its last good version."""
 
 import numpy as np
 
-from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.simulate import SimClock
-from tests.kiosk.running import kiosk_built
+from tests.kiosk.running import kiosk_built, ticked_with_edits
 from tests.kiosk.test_bad_action_start import drawing_config
 
 
@@ -17,18 +16,11 @@ def test_a_template_cut_inside_its_last_value_keeps_its_last_good_version(tmp_pa
     assert refused is None
     stage = inst.engines[0]
     before = {n: stage.templates[n]["line"][1].copy() for n in ("walker", "lone")}
-    (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
-    reloader.every_s = 0.0
-    inst.loop.inputs.open()
-    for k in range(60):
-        inst.loop.tick()
-        clock.advance(1 / 30)
-        if k == 10:        # the last value '-0.001098' cut to '-0.0010'
-            (tmp_path / "line.csv").write_text(good["line.csv"].rstrip("\n")[:-2])
-    inst.loop.close()
+    cut = good["line.csv"].rstrip("\n")[:-2]     # its last value '-0.001098' cut to '-0.0010'
+    ticked_with_edits(inst, clock, 60, {10: (tmp_path / "line.csv", cut)})
     last = len(good["line.csv"].splitlines())
     for name, samples in before.items():
         assert np.array_equal(stage.templates[name]["line"][1], samples), name
-    cut = [e for e in stage.start_problems if "line.csv" in e]
-    assert len(cut) == 2 and all(f"line.csv: line {last}: " in e and "cut short" in e
-                                 for e in cut), stage.start_problems
+    said = [e for e in stage.start_problems if "line.csv" in e]
+    assert len(said) == 2 and all(f"line.csv: line {last}: " in e and "cut short" in e
+                                  for e in said), stage.start_problems

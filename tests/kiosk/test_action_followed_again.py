@@ -8,10 +8,9 @@ import base64
 
 import numpy as np
 
-from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.simulate import SimClock
 from tabletop.plugins.mop_files import load_template
-from tests.kiosk.running import Latest, kiosk_built, replays_alike, running
+from tests.kiosk.running import Latest, kiosk_built, replays_alike, running, ticked_with_edits
 from tests.kiosk.test_bad_action_start import _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames
@@ -33,18 +32,9 @@ def test_a_fixed_action_is_followed_again_when_its_template_is_replaced_later(tm
     clock = SimClock()
     inst, _ = kiosk_built(cfg_path, clock=clock, record_path=session)
     stage = inst.engines[0]
-    (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
-    reloader.every_s = 0.0
     larger = _scaled(good["line.csv"], 1.5)
-    inst.loop.inputs.open()
-    for k in range(200):
-        inst.loop.tick()
-        clock.advance(1 / 30)
-        if k == 20:                                   # the fix
-            (tmp_path / "line.csv").write_text(good["line.csv"])
-        if k == 100:                                  # a replacement, weeks later
-            (tmp_path / "line.csv").write_text(larger)
-    inst.loop.close()
+    ticked_with_edits(inst, clock, 200, {20: (tmp_path / "line.csv", good["line.csv"]),  # the fix
+                                         100: (tmp_path / "line.csv", larger)})  # weeks later
     whole = load_template(tmp_path / "line.csv", ("dx", "dy"), stage.rate_hz)
     for name in ("walker", "lone"):
         assert np.array_equal(stage.templates[name]["line"][1], whole), name

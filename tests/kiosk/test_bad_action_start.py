@@ -18,7 +18,7 @@ from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
 from tests.kiosk.running import (Latest, kiosk_built, replays_alike, replays_without, running,
-                                 started_without)
+                                 started_without, ticked_with_edits)
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -277,7 +277,6 @@ def test_a_part_that_starts_after_a_fix_replays_on_its_own_with_the_action(tmp_p
     replayed alone follows the action, as the live run did (its header's files are the
     start's: without it the part's replay played no line at all)."""
     from tabletop.kiosk.simulate import SimClock
-    from tabletop.kiosk.actions import ActionReloader
     cfg_path = _config(tmp_path)
     shutil.copy(GESTURES / "line.csv", tmp_path / "drawn.csv")
     edited = yaml.safe_load(cfg_path.read_text())     # the visitor's puck draws the line
@@ -289,15 +288,7 @@ def test_a_part_that_starts_after_a_fix_replays_on_its_own_with_the_action(tmp_p
     _corrupt(tmp_path)
     clock = SimClock()
     inst, _ = kiosk_built(cfg_path, clock=clock)
-    (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
-    reloader.every_s = 0.0
-    inst.loop.inputs.open()
-    for k in range(150):
-        inst.loop.tick()
-        clock.advance(1 / 30)
-        if k == 20:
-            (tmp_path / "line.csv").write_text(good)
-    inst.loop.close()
+    ticked_with_edits(inst, clock, 150, {20: (tmp_path / "line.csv", good)})
     parts = inst.recorder.paths
     assert len(parts) >= 3
     later = parts[1]           # (the first part holds the frame that followed the fix)
