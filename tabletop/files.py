@@ -60,7 +60,8 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
     Raises FileFormatError for a file over ``max_bytes`` (before it is parsed), a missing or
     unreadable file, an empty file, a header without the
     ``required`` columns, duplicate columns, a row of the wrong length, a non-numeric or
-    non-finite value (with its line number) or fewer than ``min_rows`` rows.
+    non-finite value (with its line number), a last row cut short (the file ends without a
+    line end: :func:`_check_last_row_whole`) or fewer than ``min_rows`` rows.
     """
     p = Path(path)
     try:
