@@ -20,6 +20,7 @@ from tabletop.drawing import character_kernel as K
 from tabletop.drawing import pose_kernel, raster
 from tabletop.drawing import primitives as P
 from tabletop.drawing.discs import discs
+from tabletop.drawing.fit import rigid_onto
 from tabletop.drawing import screens
 from tabletop.drawing.palette import (EYE_WHITE, INK, TABLE, Color, fade, lighten, remember,
                                       rgb, shade)
@@ -409,7 +410,13 @@ def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
                    size=float(np.ptp(face_m, axis=0).max()))
     face_hint = None
     if hint is not None and len(hint[1]) == len(xy):
-        face_hint = (hint[0], np.asarray(hint[1], dtype=np.float64)[k:])
+        # the suspected face carried onto the live one (its head's outline laid on this one's):
+        # where the suspected body stands (the mime's jump lifts its head 2 cm, 17 px at
+        # 1280x720) its features were drawn on this face 185 px off its own, a second face
+        loops = _face_loops(len(xy) - k, face_bones)
+        ref = loops[1] if loops is not None else np.zeros(0, dtype=np.int64)
+        face_hint = (hint[0], rigid_onto(np.asarray(hint[1], dtype=np.float64)[k:],
+                                         np.asarray(xy[k:], dtype=np.float64), ref))
     return P.union([draw_figure(surf, body, pose, xy[:k], H, head=False),
                     draw_face(surf, face, pose, xy[k:], H, face_hint)])
 
