@@ -252,7 +252,7 @@ class Clip:
 
     def sample_columns(self, progress: float, cols: np.ndarray, plain: bool) -> np.ndarray:
         """``sample(progress)[cols]``; scalar columns (``plain``) alone interpolated: a hybrid
-        humanoid's face read its 11 blendshapes through the slerp of all its 36 joints' columns
+        humanoid's face read its 8 blendshapes through the slerp of its 9 quaternion joints
         (~100 us of a 130 us face pose)."""
         if not plain:
             return self.sample(progress)[cols]
