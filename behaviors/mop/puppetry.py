@@ -136,12 +136,9 @@ class PlanarRig:
                             f"creature ({', '.join(self.skeleton.names)})")
 
     def pose(self, clip: Clip, progress: float) -> np.ndarray:
-        v = clip.sample(progress)
+        bones, cols, plain = clip.driving(self.skeleton.names)
         angles = np.zeros(len(self.skeleton.names))
-        for n in clip.names:
-            i = self._index.get(n)
-            if i is not None:
-                angles[i] = v[clip.slices[n]][0]
+        angles[bones] = clip.sample_columns(progress, cols, plain)
         return _forward_to_up(self.skeleton.forward(angles))
 
     def rest(self) -> np.ndarray:
@@ -164,12 +161,9 @@ class FaceRig:
                             f"({', '.join(self.face.BLENDSHAPES)})")
 
     def pose(self, clip: Clip, progress: float) -> np.ndarray:
-        v = clip.sample(progress)
+        shapes, cols, plain = clip.driving(self.face.BLENDSHAPES)
         w = np.zeros(len(self._index))
-        for n in clip.names:
-            i = self._index.get(n)
-            if i is not None:
-                w[i] = v[clip.slices[n]][0]
+        w[shapes] = clip.sample_columns(progress, cols, plain)
         return self.face.points(w)
 
     def rest(self) -> np.ndarray:

@@ -194,6 +194,7 @@ class Clip:
         span = self.times[-1] - self.times[0]
         self._u = (self.times - self.times[0]) / span
         self._u_list = self._u.tolist()
+        self._driving: dict[tuple[str, ...], tuple[np.ndarray, np.ndarray, bool]] = {}
 
     @property
     def width(self) -> int:
@@ -234,6 +235,33 @@ class Clip:
         if cols.size:
             out[cols] = quat_slerp(a[cols].reshape(-1, 4), b[cols].reshape(-1, 4), f).reshape(-1)
         return out
+
+    def driving(self, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, bool]:
+        """Which of a rig's slots ``names`` (joint angles, blendshapes) this clip drives: (their
+        indices in ``names``, the first column of each here, whether all are scalar columns),
+        found once per ``names``."""
+        found = self._driving.get(names)
+        if found is None:
+            pairs = [(i, self.slices[n].start) for i, n in enumerate(names) if n in self.slices]
+            cols = np.array([c for _, c in pairs], dtype=np.intp)
+            plain = not np.isin(cols, np.concatenate([self._cols[t] for t in CHANNEL_TYPES
+                                                      if t != "scalar"])).any()
+            found = self._driving[names] = (np.array([i for i, _ in pairs], dtype=np.intp),
+                                            cols, bool(plain))
+        return found
+
+    def sample_columns(self, progress: float, cols: np.ndarray, plain: bool) -> np.ndarray:
+        """``sample(progress)[cols]``; scalar columns (``plain``) alone interpolated: a hybrid
+        humanoid's face read its 8 blendshapes through the slerp of its 9 quaternion joints
+        (~100 us of a 130 us face pose)."""
+        if not plain:
+            return self.sample(progress)[cols]
+        p = float(progress)
+        p = 0.0 if p != p else min(max(p, 0.0), 1.0)
+        i = min(max(bisect.bisect_right(self._u_list, p) - 1, 0), len(self._u_list) - 2)
+        f = (p - self._u_list[i]) / (self._u_list[i + 1] - self._u_list[i])
+        a, b = self.values[i, cols], self.values[i + 1, cols]
+        return a + f * (b - a)
 
     def sample_many(self, progress: np.ndarray) -> np.ndarray:
         """Poses (M x D) at many progress values."""

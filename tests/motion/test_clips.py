@@ -135,3 +135,17 @@ def test_resampled_keeps_the_motion():
     assert err[:, w].max() < 0.01
     with pytest.raises(ClipError):
         clip.resampled(1)
+
+
+def test_a_rigs_columns_sampled_alone_are_the_whole_samples():
+    clip = _mixed_clip()
+    slots, cols, plain = clip.driving(("x", "w", "q"))
+    assert slots.tolist() == [1, 2] and cols.tolist() == [0, 2] and not plain   # q: a quat
+    slots, cols, plain = clip.driving(("f", "w"))
+    assert slots.tolist() == [0, 1] and cols.tolist() == [6, 0] and not plain   # f: a frame
+    slots, cols, plain = clip.driving(("w", "nothing"))
+    assert slots.tolist() == [0] and cols.tolist() == [0] and plain
+    for p in [*np.linspace(-0.1, 1.1, 53), math.nan]:
+        for names in (("w",), ("a", "w"), ("q", "f", "w")):
+            _, cols, plain = clip.driving(names)
+            assert np.array_equal(clip.sample_columns(p, cols, plain), clip.sample(p)[cols])
