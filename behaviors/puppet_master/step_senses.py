@@ -291,7 +291,12 @@ class StepSenses:
         when this read turns true (one stop across gaps of up to 8 steps) at 1.2 m/s^2 (its
         designer's hand) / 2.4: 7 (3) / 29 (13) / 18 (10) / 20 (9), 5 (2) / 31 (15) / 18 (8) /
         16 (6): fast paths over the band (0.43-0.56; their designer 0.34-0.64, itself over).
-        None kept."""
+        Only until the 0.5 s read (_main_stands) holds, so that the loops' long stands keep
+        their pace: the correction held at 0.03 m/s 7 (3) / 26 (13) / 8 (4) / 18 (9), its
+        still/moving misses 16 -> 16 (the rest contact and orbit, the re-matching's spread);
+        this read widened to 0.03 m/s 7 (3) / 33 (16) / 15 (9) / 18 (8) (seed 304 slow 0.557,
+        loops under the band on 11 paths: their coast lies in a stop's first 0.5 s). None
+        kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
