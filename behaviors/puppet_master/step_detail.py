@@ -102,7 +102,17 @@ class StepDetail(StepSenses):
             # -> 36 / 39 / 36, the engine's 7 / 9 / 7 -> 5 / 5 / 5), the other characters and
             # the pursuit the same to the last digit. Each smoothed step lengthened to that
             # share of its raw steps' mean length (one run): 1989 / 55, but it sharpened the
-            # fast reversals' turns (the lover's look change on seed 1 fast 1.53x shown)
+            # fast reversals' turns (the lover's look change on seed 1 fast 1.53x shown).
+            # Where its slow walk is short (seeds 2, 3 slow, main walking, m/s per step): raw
+            # 0.105 / 0.104, smoothed 0.094 / 0.089, kept 0.096 / 0.092, out 0.095 / 0.091
+            # (its designer 0.099 / 0.101); over 0.1 s 0.090 / 0.086 (0.094 / 0.096), as
+            # straight as its designer. On seed 2 nine tenths of the shortfall is in a walk's
+            # first 0.5 s (0.063 / 0.086 against 0.077 / 0.107 per quarter second; the still
+            # cap holds 15% of the first), on seed 3 it is spread over the first 4 s. This
+            # keeper's reach and the smoothed step's cap x 1.1 (the lover alone, Python step):
+            # walking 0.0904 / 0.0859 -> 0.0912 / 0.0875, but its still pace rose with its
+            # still cap (seed 2 slow still/moving 0.564 -> 0.631); misses on those six paths 6
+            # -> 7. Not kept
             sx, sy, self._straight = kept_straightness(
                 sx, sy, sm.xs, sm.ys, b.straightness, self._straight, self.governor.decay,
                 self._keep_length)

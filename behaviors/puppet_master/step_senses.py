@@ -279,7 +279,24 @@ class StepSenses:
         and the 0.5 s read (_main_stands, on the grid) true on one. The matched moments walk
         (0.198 m/s, their main still on 32%); the designer, which stops on its main's seen
         speed under 0.03 m/s, goes 0.047-0.152 there. A lag of the causal reads on a short
-        sample, not a wrong match."""
+        sample, not a wrong match. There the step is the moment's own relative step (0.25 m/s
+        over those 22 steps) plus the drift correction at the moment's pace (0.12; 0.15-0.28
+        in the dip at 31.9 s), 0.29 raw. The correction alone held to the still pace while the
+        main keeps within 0.03 / 0.025 m/s x the stop span of each of those positions (the
+        designer's stop speed; the whole step held on this read as before), one run, misses
+        (the engine's) against 5 (2) / 29 (14) / 12 (6) / 15 (6): 7 (3) / 27 (15) / 13 (9) /
+        17 (9), 5 (2) / 28 (16) / 14 (8) / 18 (10). Seed 304 slow 1.109 -> 0.876, but loops
+        under the band on 7 paths instead of 2 (0.15-0.18): their still pace is partly this
+        correction where this read drops. The cap coasting from the reactor's own last step
+        when this read turns true (one stop across gaps of up to 8 steps) at 1.2 m/s^2 (its
+        designer's hand) / 2.4: 7 (3) / 29 (13) / 18 (10) / 20 (9), 5 (2) / 31 (15) / 18 (8) /
+        16 (6): fast paths over the band (0.43-0.56; their designer 0.34-0.64, itself over).
+        Only until the 0.5 s read (_main_stands) holds, so that the loops' long stands keep
+        their pace: the correction held at 0.03 m/s 7 (3) / 26 (13) / 8 (4) / 18 (9), its
+        still/moving misses 16 -> 16 (the rest contact and orbit, the re-matching's spread);
+        this read widened to 0.03 m/s 7 (3) / 33 (16) / 15 (9) / 18 (8) (seed 304 slow 0.557,
+        loops under the band on 11 paths: their coast lies in a stop's first 0.5 s). None
+        kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
