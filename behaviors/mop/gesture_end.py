@@ -137,10 +137,11 @@ runs 4/5/7/2/2/4 -> 2/5/7/1/2/4 and 3/6/4/4/5/4 unchanged, six gestures 1/2/2/2/
 2, but valid after 30% at 0.7-1.4x 0.9124 / 0.9022 -> 0.9071 / 0.8965, holds 0.958 / 0.963 ->
 0.956 / 0.957, pauses valid after 0.941 / 0.929 -> 0.925 / 0.916, bent 5% 0.865 -> 0.863: at a
 true end the follower, level with or ahead of its performer, also creeps under half a state a
-sample while the performer's last samples (and the jitter, 1-3 still radii a sample) move on. Traced, the
-ended runs of 3-4 ticks (101, 106, 107, 109): the follower was not stalled before its end but
-1.5-2 samples behind its performer (0.01-0.025 of progress, 0.5-1.2 states a sample), reaching
-``end`` at the next gesture's first or second sample; after it, it crept 0.15-0.5 states a sample.
+sample while the performer's last samples (and the jitter, 1-3 still radii a sample) move on.
+Traced, the ended runs of 3-4 ticks (101, 106, 107, 109): the follower was not stalled before
+its end but 1.5-2 samples behind its performer (0.01-0.025 of progress, 0.5-1.2 states a
+sample), reaching ``end`` at the next gesture's first or second sample; after it, it crept
+0.15-0.5 states a sample.
 """
 
 from __future__ import annotations
