@@ -125,6 +125,27 @@ each); R 3 counting only samples at which the follower was still below 0.955: 0.
 no run changed (that backflip's follower was at 0.96 a sample before its end). Where the
 performer stops at the last point and where they creep to it, the follower reaching ``end`` at
 the same sample, the input looks the same.
+The end read from the input where the follower stops at it (the follower alone; measured, not
+kept): once the end was reached, the grace is over at the first sample at which the action's
+followed state advanced under 0.5 states while the input moved 1 still radius or more in some
+column. ``bench/follow_seeds.py --sections=sequences`` (101-112): twenty templates' longest wrong
+runs 4/5/7/2/2/4 -> 2/5/7/1/2/4 and 3/6/4/4/5/4 unchanged, six gestures 1/2/2/2/2/2 ->
+1/2/2/1/2/2 and 2/3/2/2/2/1 -> 2/2/2/2/2/1, every share within 20% unchanged; but
+``--sections=sized`` valid after 30% at 0.7-1.4x 0.9022/0.8858/0.9057/0.8990/0.8903/0.8849 ->
+0.8965/0.8796/0.8971/0.8903/0.8829/0.8789 (101-106, mean 0.8946 -> 0.8875);
+``bench/follow_quality.py`` (tuned / held-out): twenty templates' longest wrong run 2 / 4 -> 2 /
+2, but valid after 30% at 0.7-1.4x 0.9124 / 0.9022 -> 0.9071 / 0.8965, holds 0.958 / 0.963 ->
+0.956 / 0.957, pauses valid after 0.941 / 0.929 -> 0.925 / 0.916, bent 5% 0.865 -> 0.863: at a
+true end the follower, level with or ahead of its performer, also creeps under half a state a
+sample while the performer's last samples (and the jitter, 1-3 still radii a sample) move on.
+Traced, the ended runs of 3-4 ticks (101, 106, 107, 109): the follower was not stalled before
+its end but 1.5-2 samples behind its performer (0.01-0.025 of progress, 0.5-1.2 states a
+sample), reaching ``end`` at the next gesture's first or second sample; after it, it crept
+0.15-0.5 states a sample. The input moving *away* from the last point (farther by 1 still
+radius in some column than at the sample before) instead of moving at all:
+``bench/follow_quality.py --sections=sized,sequences`` held-out twenty longest wrong run 4
+unchanged (median 2 -> 1.5), valid after 30% at 0.7-1.4x 0.9124 / 0.9022 -> 0.9110 / 0.9015,
+at 0.6 / 1.5x 0.7540 / 0.7001 -> 0.7533 / 0.6978.
 """
 
 from __future__ import annotations

@@ -51,6 +51,19 @@ from ``bench/follow_quality.py`` unless said otherwise.
   ``--sections=unrelated,after,sized`` (tuned / held-out): valid after 30% at 0.7-1.4x 0.9131 /
   0.9038 -> 0.9129 / 0.9033 (a true take after another action led waits a sample), unrelated
   mean 0.0481 / 0.0556 -> 0.0478 / 0.0550, after a gesture 0.1146 / 0.1159 -> 0.1145 / 0.1147.
+  Measured and not kept: a take held until the action has been ``best`` for ``h`` times its
+  template's length in samples in a row (a hysteresis scaled by each template's own rate; every
+  take). Every take among the held-out twenty back to back (``bench/follow_seeds.py
+  --sections=sequences``, seeds 101-112; 108 right takes within 20%, 25 wrong ones inside a
+  gesture): the wrong ones had been best 4-13 samples when they drove (the spin wrist on a
+  circle 5-13, the punch ankle on a getup wrist 6-7, the line on a square 4-13), 82 of the 108
+  right ones 2-5; a hysteresis holds more right takes than wrong ones at every ``h`` (0.03: 13
+  right, 0 wrong; 0.05: 19, 2; 0.07: 42, 4; 0.1: 67, 11). At 0.1: twenty within 20% 0.344 /
+  0.281 / 0.219 / 0.313 / 0.156 / 0.25 -> 0.156 / 0.156 / 0.156 / 0.188 / 0.156 / 0.25 (101-106),
+  0.281 / 0.25 / 0.188 / 0.406 / 0.313 / 0.344 -> 0.219 / 0.125 / 0.094 / 0.25 / 0.281 / 0.281
+  (107-112), six 0.031-0.188 -> 0 on every seed; longest wrong runs 4/5/7/2/2/4 -> 4/2/6/2/2/3
+  and 3/6/4/4/5/4 -> 3/6/4/4/2/4. Nor is the true action's evidence rising on the one taken when
+  a wrong take drives: its gain over the last 3 samples -4.0 to +2.3 nats at 23 of those 25.
 - Mirrored paths among twenty templates (``bench/follow_widened.py``: worst valid share 0.239,
   mean 0.0145, 22 of 540 over 0.1) drive where a stroke is followed back over itself (the
   zigzag taken at its corner and followed back along the stroke; the walk ankle on the
