@@ -159,7 +159,9 @@ class StepDetail(StepSenses):
             # 0-5 / 40-51, the heading at 0.86 or more 0.290 / 0.300 m p 11 / 32, under it 0.311
             # / 0.309 p 8 / 31, ungated 0.319 / 0.320 p 6 / 18 (against 4 / 33). Its open
             # cost is spread (seeds 0-5, 40-51: facing 40 -> 68 misses, orbit 86 -> 110, speed
-            # 52 -> 73; loops orbit 24 -> 45, fast speed 14 -> 28). Not used.
+            # 52 -> 73; loops orbit 24 -> 45, fast speed 14 -> 28). Half the lost part kept,
+            # ungated: 95 (6) p 7 (4) / 155 (7) p 24 (11) / 178 (4) p 20 (10) / 190 (7) p 40
+            # (25) = 618 (24) p 91 (50), 0.293-0.310 m. Not used.
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
