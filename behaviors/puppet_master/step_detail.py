@@ -153,6 +153,25 @@ class StepDetail(StepSenses):
             # 0.283-0.302 m): farther, 0.319-0.322 (facing 0.153-0.195 -> 0.193-0.205), 652 (25)
             # p 70 (46); only while the main closes in at 0.05 m/s or more 561 (25) p 88 (62)
             # (seeds 0-5 chased 4 -> 8); within 0.35 m 587 (30) p 102 (64). Not used.
+            # Gated (within 0.5 m, same runs): while the main kept heading at it (the cosine of
+            # its step to the bearing, 0 under 0.04 m/s, meaned over 1 s) at 0.5 or more 558
+            # (27) p 98 (61), per set 87 / 117 / 172 / 182 open (73 / 126 / 160 / 192); at 0.86
+            # or more, seeds 0-5 89 (5) p 11 (6), 0.290 m; after closing in for 1 s, 0-5 88 (6)
+            # p 13 (7); where the matched moment's distance is beyond the live one 607 (33) p
+            # 86 (51), 0.305-0.318 m; 3 cm beyond 626 (20) p 75 (38); that and the heading at
+            # 0.3 575 (43) p 101 (63). Steps within 0.5 m each gate opens on, chased / open
+            # paths: the heading at 0.86 51% / 9%, at 0.96 34% / 1% (meaned over 2-8 s no
+            # sharper); the live approach over 1 s at 0.12 m/s 56% / 20%; the matched moments'
+            # main closing in over their window at 0.11 m/s 63% / 45%. The distance the ungated
+            # rule wins is the whole chase's, by the visitor's mode (visitors.Pursuer, seeds
+            # 0-5, 40-51): chasing 0.247 -> 0.276 m, pausing 0.334 -> 0.352, pulling back 0.385
+            # -> 0.398, wandering 0.365 -> 0.373, and a gate to the chase loses it; chased on
+            # 0-5 / 40-51, the heading at 0.86 or more 0.290 / 0.300 m p 11 / 32, under it 0.311
+            # / 0.309 p 8 / 31, ungated 0.319 / 0.320 p 6 / 18 (against 4 / 33). Its open
+            # cost is spread (seeds 0-5, 40-51: facing 40 -> 68 misses, orbit 86 -> 110, speed
+            # 52 -> 73; loops orbit 24 -> 45, fast speed 14 -> 28). Half the lost part kept,
+            # ungated: 95 (6) p 7 (4) / 155 (7) p 24 (11) / 178 (4) p 20 (10) / 190 (7) p 40
+            # (25) = 618 (24) p 91 (50), 0.293-0.310 m. Not used.
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
