@@ -1,9 +1,9 @@
 """The benches' command line (bench.common.check_flags): a wrong argument is refused before
-minutes of measuring."""
+minutes of measuring. The scripts' ``main`` runs in-process here (what it says and its exit);
+``test_bench_flags.py`` runs every script in an interpreter of its own."""
 
-import subprocess
+import importlib
 import sys
-from pathlib import Path
 
 import pytest
 
@@ -37,27 +37,33 @@ def test_a_number_option_is_refused_outside_its_range(capsys):
             f"follow_quality: --sigma: expected a number in 0.001..100, got {value!r}")
 
 
-def bench_help(name: str) -> str:
+def bench_exit(name: str, args: list[str], monkeypatch) -> SystemExit:
+    """How ``bench/NAME.py ARGS``'s ``main`` ended (it must end before measuring)."""
+    monkeypatch.setattr(sys, "argv", [f"bench/{name}.py", *args])
+    with pytest.raises(SystemExit) as ended:
+        importlib.import_module(f"bench.{name}").main()
+    return ended.value
+
+
+def bench_help(name: str, capsys, monkeypatch) -> str:
     """What ``bench/NAME.py --help`` prints, once it exited 0 naming the sections."""
-    bench = Path(__file__).resolve().parents[2] / "bench" / f"{name}.py"
-    r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
-                       timeout=120)
-    assert r.returncode == 0 and f"sections: {', '.join(SECTION_NAMES)}" in r.stdout
-    return r.stdout
+    capsys.readouterr()
+    assert bench_exit(name, ["--help"], monkeypatch).code in (0, None)
+    out = capsys.readouterr().out
+    assert f"sections: {', '.join(SECTION_NAMES)}" in out
+    return out
 
 
-def test_follow_quality_answers_help_before_measuring():
-    out = bench_help("follow_quality")
+def test_follow_quality_answers_help_before_measuring(capsys, monkeypatch):
+    out = bench_help("follow_quality", capsys, monkeypatch)
     assert "[--sigma=X]" in out and "sigma: a number in 0.001..100" in out
     assert "[--seed=X]" in out and "seed: a number in 0..999999" in out
 
 
-def test_follow_quality_refuses_a_seed_that_is_no_whole_number():
-    bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
-    r = subprocess.run([sys.executable, str(bench), "--seed=1.5"], capture_output=True, text=True,
-                       timeout=120)
-    assert r.returncode == 1
-    assert r.stderr.strip() == "follow_quality: --seed: expected a whole number, got '1.5'"
+def test_follow_quality_refuses_a_seed_that_is_no_whole_number(monkeypatch):
+    # a message as the exit code: the interpreter prints it on stderr and exits 1
+    refused = bench_exit("follow_quality", ["--seed=1.5"], monkeypatch)
+    assert refused.code == "follow_quality: --seed: expected a whole number, got '1.5'"
 
 
 def test_follow_seeds_takes_whole_seeds_and_the_sections_and_refuses_the_rest():
@@ -77,6 +83,6 @@ def test_follow_seeds_takes_whole_seeds_and_the_sections_and_refuses_the_rest():
         assert str(refused.value.code).splitlines()[0] == said
 
 
-def test_follow_seeds_answers_help_before_measuring():
-    out = bench_help("follow_seeds")
+def test_follow_seeds_answers_help_before_measuring(capsys, monkeypatch):
+    out = bench_help("follow_seeds", capsys, monkeypatch)
     assert "[--seeds=X]" in out and "seeds: a number in 0..999999" in out
