@@ -67,10 +67,11 @@ def _driven_in_pauses(gestures: dict[str, np.ndarray]) -> int:
 
 
 def test_an_action_paused_just_after_its_recognition_holds_the_pause(gestures, monkeypatch):
-    # validity.stalls spares an action taken at TAKEN_PERFORMED of its progress or later: the
-    # input performed that much of its path before it drove. Taken at 0.33-0.45 here (recognised
-    # late at 1.2-1.4x) and paused before it carried its performer CARRY_FIRST on: measured 120
-    # of the 120 pause samples driven, 15 with every take held to CARRY_FIRST
+    # validity.stalls spares an action taken TAKEN_PERFORMED of its progress from where its
+    # attempt began, its followed state resting: the input performed that much of its path
+    # before it drove. Taken at 0.33-0.45 here (recognised late at 1.2-1.4x) and paused before
+    # it carried its performer CARRY_FIRST on: measured 120 of the 120 pause samples driven, 15
+    # with every take held to CARRY_FIRST
     driven = _driven_in_pauses(gestures)
     monkeypatch.setattr(validity, "TAKEN_PERFORMED", math.inf)
     plain = _driven_in_pauses(gestures)
