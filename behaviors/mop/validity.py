@@ -98,8 +98,12 @@ cost held-out after a gesture (``bench/follow_quality.py``) .05835 -> .05843: a 
 turn (0.507) on a triangle's first corner, where the input slowed into the corner (read as a rest
 for a sample while the line's state still advanced 0.5 states a sample); counted from the
 re-entry, ``--sections=sized,unrelated,sequences`` seeds 101-106 also unrelated told worst on 103
-.0540 -> .0571. With the followed state resting too, seeds 101-106: .9066 / .8933 / .9129 / .9028
-/ .8937 / .8910 (mean .8946 -> .9000), every other figure of those sections identical.
+.0540 -> .0571. Kept, with the followed state resting too: seeds 101-106 .9066 / .8933 / .9129 /
+.9028 / .8937 / .8910 (mean .8946 -> .9000), 107-112 .8919 / .8828 / .8938 / .9066 / .8963 / .8950
+(mean .8847 -> .8944), every other figure of those sections identical (109's run 4);
+``bench/follow_quality.py``: tuned sized .9124 and after a gesture .05835 unchanged, pauses valid
+.9551 -> .9678, held through .9275 -> .9420, held-out sized .9022 -> .9066, 0.6/1.5x .7001 ->
+.7294, pauses .9436 -> .9501, aspect 1.1 .8896 -> .8913, bent 5% .7450 -> .7461; the rest equal.
 
 Tempo (:func:`slow_take`): a new action is taken only if, over the last :data:`TEMPO_SAMPLES`
 samples, its followed state moved at least :data:`LEAST_TEMPO` states per sample (either way),
