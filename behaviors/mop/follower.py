@@ -276,6 +276,8 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         # (shape_lead.ShapeLead._drifts)
         self._drift, self._drift_run = np.zeros(len(self.names)), np.zeros(len(self.names))
         self._gone = np.zeros(len(self.names))
+        # each template's progress where its current attempt began (validity.stalls)
+        self._attempt_from = np.zeros(len(self.names))
         self._acquired = -1
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
         self._abandoned, self._came = False, np.zeros(self.dim)

@@ -105,6 +105,7 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._drift[mine] = 0.0
         self._drift_run[mine] = 0.0
         self._gone[mine] = 0.0
+        self._attempt_from[mine] = 0.0
 
     def reset(self) -> None:
         """Forget every performance."""

@@ -71,6 +71,8 @@ class GroupArrays:
         self._drift = np.zeros(len(self._owner))      # ... the last one's, and its run (_drifts)
         self._drift_run = np.zeros(len(self._owner))
         self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
+        # ... and where its current attempt began (validity.stalls)
+        self._attempt_from = np.zeros(len(self._owner))
         # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
         # (K_i, K_i) flattened, from _sh_off[i]; -1 for members without
         shared = [np.zeros(0, np.intp) if f._shared is None else f._shared.ravel() for f in fs]
@@ -126,7 +128,8 @@ class GroupArrays:
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
                      "_least", "_judged", "_at_hold_end", "_reached", "_probe")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
-    _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone") + group_layout.SHAPE_LAGS
+    _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone",
+                       "_attempt_from") + group_layout.SHAPE_LAGS
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",

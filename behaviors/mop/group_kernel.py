@@ -96,7 +96,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
-    drift, drift_run, reached = floats[11], floats[12], floats[13]
+    drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -284,6 +284,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             new_out[k] = new
             if new:
                 gone[k] = 0.0
+                attempt_from[k] = progress_out[k]   # (validity.stalls)
             if spots:   # the highest progress since the gesture began (spotting's _gone)
                 gone[k] = max(gone[k], progress_out[k])
             mll = rec[k] / rw[k]

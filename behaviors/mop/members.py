@@ -29,7 +29,7 @@ from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, sti
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
-                                    REST_BEHIND)
+                                    LEAST_TEMPO, REST_BEHIND, TAKEN_PERFORMED)
 from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
@@ -228,7 +228,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         if present[i] and m_flags[14, i]:
             m_flags[2, i] = False
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
-    highest, drift_run = floats[8], floats[12]   # (group_layout.FLOATS)
+    highest, drift_run, attempt_from = floats[8], floats[12], floats[14]   # (group_layout.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
     bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]
@@ -287,8 +287,15 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             # ... nor once its performer finished it short of its end (handover.finished)
             ok = ok and not finished_short(drive_peak[i], progress[gb], crawl[i, 0] > 0)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
+            # (spared once performed TAKEN_PERFORMED since its attempt began, resting too)
+            last = progress[gb]
+            if end_history_n[i] > 0 and peak_k[i] == bi:
+                last = end_history[i, end_history.shape[1] - 1]
             ok = ok and not (rests and drive_moved[i]
-                             and drive_peak[i] - drive_from[i] < CARRY_FIRST)
+                             and drive_peak[i] - drive_from[i] < CARRY_FIRST
+                             and not (drive_from[i] - attempt_from[gb] >= TAKEN_PERFORMED
+                                      and abs(progress[gb] - last) * (length - 1.0)
+                                      < LEAST_TEMPO))
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
         # a new best confirms on samples of its own (recognition: the run does not carry over)

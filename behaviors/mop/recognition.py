@@ -155,6 +155,7 @@ class Recognition:
         self._rejudge()
         if np.count_nonzero(new):
             self._gone[new] = 0.0
+            self._attempt_from[new] = progress[new]
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
             self._refused[new] = False
@@ -275,7 +276,12 @@ class Recognition:
                 ok = ok and not finished(self._drive_peak, progress_list[bi], self._crawl > 0)
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
-                ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
+                # (its followed state's last step: the action's progress at the last sample)
+                last = (self._end_history[-1] if self._peak_k == bi and self._end_history
+                        else progress_list[bi])
+                ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests,
+                                       self._drive_from - self._attempt_from[bi],
+                                       abs(progress_list[bi] - last) * (b.lengths[bi] - 1.0))
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
         # a new best confirms on samples of its own: the run of the one before does not carry
