@@ -26,7 +26,6 @@ from typing import Mapping
 
 import numpy as np
 
-from behaviors.mop.earned import slow_states
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import (OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, glitch_limits,
                                   path_distance)
@@ -189,8 +188,6 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
                                     f"feature), got {np.asarray(still_scale).tolist()}")
             self._still_scale = np.maximum(self._still_scale, floor)
         self._setup_frame(float(scale_prior))
-        # where each template rests or slows (earned.unearned_rest)
-        self._slows = slow_states(self._rel, b.starts, b.lengths, b.holds)
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
         # the threshold model: spatial inputs only (a noisy stream's own performance lost
@@ -289,7 +286,6 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._underway, self._underway_rested = False, False
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
-        self._drive_earned = 0.0   # progress gained while it drove (earned.earned)
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
         self._after_end = 0
         self._peak, self._peak_k = 0.0, -1

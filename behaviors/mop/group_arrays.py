@@ -91,7 +91,6 @@ class GroupArrays:
         self._drive_k = np.full(m, -1, dtype=np.intp)
         self._turning_arrays()
         self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
-        self._drive_earned = np.zeros(m)   # progress gained while it drove (earned.earned)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._x = np.zeros((m, dmax))
         self._one_dim = all(f.dim == dmax for f in fs)
@@ -131,10 +130,10 @@ class GroupArrays:
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
-                   "_drive_from", "_drive_peak", "_drive_earned", "_drive_moved", "_shape_n",
-                   "_turn_in", "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h",
-                   "_abandoned", "_came", "_abandon_rested", "_taken", "_taken_n",
-                   "_end_history", "_end_history_n", "_lagged")
+                   "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
+                   "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
+                   "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
+                   "_lagged")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out
@@ -145,7 +144,7 @@ class GroupArrays:
         padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
         self._states = np.ascontiguousarray(np.concatenate(
             [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None],
-                        f._arc[:, None], holding_columns(f), f._slows[:, None]]) for f in fs]))
+                        f._arc[:, None], holding_columns(f)]) for f in fs]))
         self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths,
                                                   self._state_off], axis=1))
         z = lambda f, on: padded(f._first_z, f) if on else np.zeros((len(f.names), dmax))

@@ -57,8 +57,7 @@ MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acq
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
                "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
-                 "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last",
-                 "_drive_earned")
+                 "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
@@ -238,7 +237,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     end_history_n, lagged = ints[16], m_flags[13]
     moving, kept, drive_from, drive_peak, peak = (m_floats[0], m_floats[2], m_floats[5],
                                                   m_floats[6], m_floats[7])
-    earned = m_floats[12]
     any_engaged, all_refused, leads, rest, committed = (m_flags[0], m_flags[1], m_flags[2],
                                                         m_flags[4], m_flags[5])
     has_end, turn_ok, drive_moved = m_flags[6], m_flags[7], m_flags[8]
@@ -283,8 +281,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb,
                 int(g) - start, shared, sh_off[i], refused, misshaped, progress, highest))))
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
-            if acquired[i] == bi:   # progress gained while it drove (earned.earned)
-                earned[i] += max(0.0, progress[gb] - drive_peak[i])
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
@@ -295,11 +291,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
-            # ... nor, gained while it did not drive, holds them where its template neither
-            # rests nor slows (earned.unearned_rest)
-            ok = ok and not (rests and drive_moved[i] and earned[i] < CARRY_FIRST
-                             and drive_peak[i] - drive_from[i] >= CARRY_FIRST
-                             and states[off + int(np.rint(g)), src + 4] == 0.0)
         # a new best confirms on samples of its own (recognition: the run does not carry over)
         run[i] = run[i] + 1 if ok and run_k[i] == bi else (1 if ok else 0)
         run_k[i] = bi
@@ -314,7 +305,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             drive_from[i] = progress[gb]
             drive_peak[i] = progress[gb]
             drive_moved[i] = False
-            earned[i] = 0.0
         if val and not rests:
             drive_moved[i] = True
         acquired[i] = bi if val else -1

@@ -77,7 +77,6 @@ import math
 
 import numpy as np
 
-from behaviors.mop.earned import earned, unearned_rest
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
@@ -257,8 +256,6 @@ class Recognition:
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
                 # them back behind where it began (validity.backs_first)
-                self._drive_earned = earned(self._drive_earned, self._acquired == bi,
-                                            self._drive_peak, progress_list[bi])
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
                 ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
                 # ... nor once its performer finished it short of its end (handover.finished)
@@ -268,11 +265,6 @@ class Recognition:
                 ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
-                # ... nor, its progress gained while it did not drive, hold them where its
-                # template neither rests nor slows (earned.unearned_rest)
-                ok = ok and not unearned_rest(self._drive_from, self._drive_peak,
-                                              self._drive_earned, self._drive_moved, rests,
-                                              bool(self._slows[int(round(float(g[bi])))]))
         # a new best confirms on samples of its own: the run of the one before does not carry
         # over (it did: a figure eight took over a stalled crawl and drove in the same sample)
         self._run = self._run + 1 if ok and bi == self._run_k else int(ok)
@@ -283,7 +275,7 @@ class Recognition:
         if valid and self._drive_k != bi:
             self._drive_k = bi
             self._drive_from = self._drive_peak = progress_list[bi]
-            self._drive_moved, self._drive_earned = False, 0.0
+            self._drive_moved = False
         if valid and not rests:
             self._drive_moved = True
         self._acquired = bi if valid else -1
