@@ -79,6 +79,10 @@ after 30% identical, holds and back to back identical on 101-106, but held-out l
 seed (0.9022 / 0.8749 / 0.9055 / 0.8871 / 0.8818 / 0.8744 -> 0.9012 / 0.8724 / 0.9042 / 0.8866 /
 0.8765 / 0.8739; not traced per performance), the wander's worst alone lowered.
 
+Nor is the carry counted over the samples the action drove, a rest then held only where the
+template slows (its step under half its median): 104's wander 0.1112 -> 0.0842, but 102 / 105
+valid after 30% 0.8858 / 0.8903 -> 0.8853 / 0.8884 (a 1x wave, on track, off for 3 samples
+after its take, paused at 0.335 with 0.041 counted: 0.981 -> 0.796).
 Measured and not kept: an action taken at 0.3 of its progress or later spared the carry (the input
 had performed that much of its path before it drove). A gesture recognised late (1.2-1.4x: taken at
 0.33-0.57) and paused within a few samples is refused through the whole pause (a 1.2x circle taken
