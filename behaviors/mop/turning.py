@@ -20,6 +20,16 @@ because the full bench shows other costs at 1.3: gestures back to back among the
 held-out templates never recognised 0.125 -> 0.188 (the turning is counted from where the
 gesture was spotted to begin, which in a stream can lie in the previous gesture's tail),
 recognised within 20% 0.28 -> 0.25, 0.6x/1.5x recognised by the end 0.90 -> 0.85-0.875.
+
+Measured and not kept (follower and group, turning read for every 2-D input): a template whose
+first stroke is straight (no state before its first 0.5 rad of turning further than 0.08 of the
+chord from it; the bend at 0.15 of it or later, not a corner of 1.4 rad) is not taken from 0.1
+before that bend on until the input has turned 0.5 rad. The diagonal is the figure eight's first
+stroke (held-out seed 109, six templates, 0.7/1/1.4x: 0.125/0.151/0.071 valid). Seeds 101-106
+(``bench/follow_seeds.py --sections=sized,unrelated,sequences``): unrelated mean 0.0980 -> 0.0894
+(102 0.0814 -> 0.0491), but valid after 30% at 0.7-1.4x lower on every seed (0.9022 / 0.8858 /
+0.9057 / 0.8990 / 0.8903 / 0.8849 -> 0.8991 / 0.8851 / 0.9017 / 0.8897 / 0.8857 / 0.8785), tuned
+0.9124 -> 0.9122; twenty back to back within 20% 101 0.344 -> 0.313, 102 0.281 -> 0.250.
 """
 
 from __future__ import annotations

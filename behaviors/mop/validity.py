@@ -79,6 +79,11 @@ after 30% identical, holds and back to back identical on 101-106, but held-out l
 seed (0.9022 / 0.8749 / 0.9055 / 0.8871 / 0.8818 / 0.8744 -> 0.9012 / 0.8724 / 0.9042 / 0.8866 /
 0.8765 / 0.8739; not traced per performance), the wander's worst alone lowered.
 
+Nor is the carry counted over the samples the action drove, a rest then held only where the
+template slows (its step under half its median): 104's wander 0.1112 -> 0.0842, but 102 / 105
+valid after 30% 0.8858 / 0.8903 -> 0.8853 / 0.8884 (a 1x wave, on track, off for 3 samples
+after its take, paused at 0.335 with 0.041 counted: 0.981 -> 0.796).
+
 Performed before it drove (:data:`TAKEN_PERFORMED`): an action taken 0.3 or more of its progress
 from where its current attempt began (0 after spotting's restart; where it last re-entered its
 first states) is spared the carry while its followed state rests too (it moved fewer than
