@@ -88,7 +88,8 @@ def _entry_weights(a, ma, ti, a0, a1, base, entries) -> None:
 
 
 @compiled(numba.float64(_S2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _S1, _S1,
-                        numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO, fastmath=CONTRACT)
+                        numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO, fastmath=CONTRACT,
+          _nrt=False)
 def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order: the
