@@ -87,6 +87,9 @@ def _entry_weights(a, ma, ti, a0, a1, base, entries) -> None:
         ma[ti[k, 2] + ti[k, 0] - base] = _F32(1.0 / entries)
 
 
+# Without numba's reference counts (``_nrt=False``): its eight slices a template each took a
+# locked increment and decrement (with update_templates', a fifth of DESIGN's group tick).
+# The group's outputs moved by at most 2e-11 relative (no best, validity or likely changed).
 @compiled(numba.float64(_S2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _S1, _S1,
                         numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO, fastmath=CONTRACT,
           _nrt=False)
