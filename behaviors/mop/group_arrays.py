@@ -206,6 +206,7 @@ class GroupArrays:
         self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
         self._reversal_tol = np.concatenate([f._reversal_tol for f in fs])
         self._probe_floor2 = np.concatenate([np.full(len(f.names), f._probe_floor2) for f in fs])
+        self._k_rows = np.empty((12, dmax))   # update_templates' scratch: a sample's twelve views
         # the threshold models' state (Refusal._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         # ... in single precision (threshold.PRECISION)

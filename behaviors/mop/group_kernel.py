@@ -54,16 +54,21 @@ _I1, _B1 = numba.intp[::1], numba.boolean[::1]
 _I2, _BB2 = numba.intp[:, ::1], numba.boolean[:, ::1]
 _S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
 
+# Compiled without numba's reference counts (``_nrt=False``; its scratch ``rows`` passed in):
+# every row or slice view taken per template (``tc[k]``, ``states[gs]``, the units given to
+# add_lagged) took a locked increment and decrement, about a fifth of DESIGN's group tick
+# (perf samples). Thread time p10, interleaved processes, load 15-26: update_templates 953, 971
+# -> 793, 822 us, the tick 1587, 1620 -> 1450, 1520 us; the same outputs to the bit.
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
                      numba.int64[::1], _F1, _F3, _F3, _I2, numba.intp, numba.intp, numba.float64,
                      numba.float64, _F2, _B1, _I2, _F2, _BB2, _B1, _F2, _S2, _S1, _S1, _F2, _F1,
-                     _F1, _I1, _F1, _F2, _F1),
-           *_CALLS_INTO, fastmath=CONTRACT)
+                     _F1, _I1, _F1, _F2, _F1, _F2),
+           *_CALLS_INTO, fastmath=CONTRACT, _nrt=False)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      vectors, buf, ints, before, after, rival_p, min_lead, k_out, new_out,
                      top3_out, m_floats, m_flags, present, means, thr_means, alpha, scratch,
                      thr_z, thr_lj, thr_tops, reversal_at, reversal_tol, probe,
-                     probe_floor2) -> None:
+                     probe_floor2, rows) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -116,18 +121,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ra0, un0 = MC_ROWS, MC_ROWS + d                 # columns of mc
     flat = means.reshape(-1)   # (prefetch's view of it)
     n_states = means.shape[1]
-    u = np.empty(d)
-    z = np.empty(d)
-    v = np.empty(d)
-    away = np.empty(d)
-    dx = np.empty(d)
-    hq = np.empty(d)
-    hr = np.empty(d)
-    htol = np.empty(d)
-    hrad = np.empty(d)
-    dxu = np.empty(d)
-    tu = np.empty(d)
-    tr = np.empty(d)
+    u, z, v, away, dx, hq = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
+    hr, htol, hrad, dxu, tu, tr = rows[6], rows[7], rows[8], rows[9], rows[10], rows[11]
     for i in range(bounds.size):
         a0 = bounds[i]
         a1 = a0 + counts[i]
@@ -406,7 +401,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                         still = False
                 if not thr_has_x[i] or still:
                     step = min(step, lead)
-                thr_x[i] = x[i]
+                for c in range(d):
+                    thr_x[i, c] = x[i, c]
                 thr_has_x[i] = True
                 thr_ev[i] = thr_ev[i] * decay + step
             kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
