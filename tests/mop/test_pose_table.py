@@ -41,3 +41,19 @@ def test_bulk_table_equals_exact_pose_at_sampled_progresses(figure, name, travel
         # measured: at most 4.4e-16 apart (the slerp's quaternion dot product summed in
         # another order along the sample axis)
         assert np.abs(pts - rig.exact_pose(clip, u)).max() < 1e-12, (name, u)
+
+
+def test_rigs_share_a_table_only_for_the_same_figure_and_clip(figure):
+    walk = load_motion("walk")
+    table = HumanoidRig(figure)._table(walk)
+    assert HumanoidRig(figure)._table(load_motion("walk")) is table   # a rebuild: no new table
+    travel = HumanoidRig(figure, travel=True)
+    assert travel._table(walk) is not table
+    values = walk.values.copy()
+    values[:, walk.slices["root_y"].start] += 0.1    # the same walk, 0.1 model units higher
+    raised = Clip("walk", walk.channels, walk.times, values, walk.loop)
+    assert np.abs(travel._table(raised) - travel._table(walk)).max() > 0.05   # measured 0.063
+    turned = HumanoidRig(ProjectedFigure(figure.skeleton, Projection(view_yaw=1.0), ROOT_SCALE))
+    other = turned._table(walk)
+    assert other is not table
+    assert np.abs(other[7] - turned.exact_pose(walk, 7 / (len(other) - 1))).max() < 1e-12
