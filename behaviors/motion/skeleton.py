@@ -147,6 +147,43 @@ class UrdfSkeleton:
         return np.vstack([pos, tips])
 
 
+    def forward_many(self, root_pos: np.ndarray, root_rot: np.ndarray,
+                     rotations: Mapping[str, np.ndarray]) -> np.ndarray:
+        """:meth:`forward` of M poses at once (M x N x 3): root positions (M x 3), root
+        quaternions (M x 4), joint name -> quaternions (M x 4) or hinge angles (M or M x 1,
+        radians). Every sample's arithmetic is :meth:`forward`'s, elementwise along M."""
+        root_pos = np.asarray(root_pos, dtype=float).reshape(-1, 3)
+        m, n_links = len(root_pos), len(self.link_names)
+        pos = np.empty((m, n_links, 3))
+        rot = np.empty((m, n_links, 3, 3))
+        pos[:, 0] = root_pos
+        local = np.broadcast_to(np.eye(3), (m, len(self.joints), 3, 3)).copy()
+        balls = [i for i in self._ball if self.joints[i].name in rotations]
+        quats = [np.asarray(root_rot, dtype=float).reshape(m, 4)]
+        quats += [np.asarray(rotations[self.joints[i].name], dtype=float).reshape(m, 4)
+                  for i in balls]
+        mats = quat_to_matrix(np.stack(quats, axis=1))
+        rot[:, 0] = mats[:, 0]
+        if balls:
+            local[:, balls] = mats[:, 1:]
+        hinges = [k for k, i in enumerate(self._hinge) if self.joints[i].name in rotations]
+        if hinges:
+            idx = [self._hinge[k] for k in hinges]
+            theta = np.stack([np.asarray(rotations[self.joints[i].name], dtype=float)
+                              .reshape(m, -1)[:, 0] for i in idx], axis=1)
+            local[:, idx] = (np.eye(3) + np.sin(theta)[..., None, None] * self._hinge_k[hinges]
+                             + (1 - np.cos(theta))[..., None, None] * self._hinge_k2[hinges])
+        for joints, parents, children, fixed, xyz in self._levels:
+            rp = rot[:, parents]
+            pos[:, children] = pos[:, parents] + (rp @ xyz)[..., 0]
+            rot[:, children] = (rp @ local[:, joints] if fixed is None
+                                else rp @ fixed @ local[:, joints])
+        if not self._tip_links:
+            return pos
+        tips = (rot[:, self._tip_links] @ self._tip_offsets[:, :, None])[..., 0] \
+            + pos[:, self._tip_links]
+        return np.concatenate([pos, tips], axis=1)
+
 def load_urdf(path: str | Path) -> UrdfSkeleton:
     """Read a URDF file's kinematic tree. Raises :class:`SkeletonError` naming the file."""
     p = Path(path)
@@ -378,4 +415,20 @@ class ProjectedFigure:
         else:
             r = height
         pts = self.projection(self.skeleton.forward(r, root_rot, rotations))
+        return pts / self.rest_height
+
+    def points_many(self, root_pos: np.ndarray, root_rot: np.ndarray,
+                    rotations: Mapping[str, np.ndarray], travel: bool = False,
+                    origin: Sequence[float] | None = None) -> np.ndarray:
+        """:meth:`points` of M poses at once (M x N x 2): root positions (M x 3), root
+        quaternions (M x 4), joint rotations as in :meth:`UrdfSkeleton.forward_many`."""
+        r = np.asarray(root_pos, dtype=float).reshape(-1, 3) * self.root_scale
+        up = self.projection.up
+        if travel:
+            o = np.zeros(3) if origin is None else np.asarray(origin, dtype=float) * self.root_scale
+            o = o - up * (o @ up)
+            r = r - o
+        else:
+            r = up * np.array([[row @ up] for row in r])
+        pts = self.projection(self.skeleton.forward_many(r, root_rot, rotations))
         return pts / self.rest_height
