@@ -217,12 +217,17 @@ class Clip:
                             f"{', '.join(self.names)})")
         return np.asarray(values)[..., self.slices[name]]
 
-    def sample(self, progress: float) -> np.ndarray:
-        """The pose at ``progress`` (0..1, clamped; NaN counts as 0) as a D-vector."""
+    def _segment(self, progress: float) -> tuple[int, float]:
+        """The key ``i`` before ``progress`` (0..1, clamped; NaN counts as 0) and the fraction of
+        the way to key ``i + 1``."""
         p = float(progress)
         p = 0.0 if p != p else min(max(p, 0.0), 1.0)
         i = min(max(bisect.bisect_right(self._u_list, p) - 1, 0), len(self._u_list) - 2)
-        f = (p - self._u_list[i]) / (self._u_list[i + 1] - self._u_list[i])
+        return i, (p - self._u_list[i]) / (self._u_list[i + 1] - self._u_list[i])
+
+    def sample(self, progress: float) -> np.ndarray:
+        """The pose at ``progress`` (0..1, clamped; NaN counts as 0) as a D-vector."""
+        i, f = self._segment(progress)
         a, b = self.values[i], self.values[i + 1]
         out = a + f * (b - a)
         cols = self._cols["angle"]
@@ -256,10 +261,7 @@ class Clip:
         (~100 us of a 130 us face pose)."""
         if not plain:
             return self.sample(progress)[cols]
-        p = float(progress)
-        p = 0.0 if p != p else min(max(p, 0.0), 1.0)
-        i = min(max(bisect.bisect_right(self._u_list, p) - 1, 0), len(self._u_list) - 2)
-        f = (p - self._u_list[i]) / (self._u_list[i + 1] - self._u_list[i])
+        i, f = self._segment(progress)
         a, b = self.values[i, cols], self.values[i + 1, cols]
         return a + f * (b - a)
 
