@@ -32,8 +32,10 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
     """Scripted performers for attract mode, one per MOP performer driven by a puck's path
     (``features: [dx, dy]``): it draws that performer's action templates (CSV ``t,dx,dy``) from
     a home spread along the table, so the MOP characters play their actions."""
-    from tabletop.files import MAX_TEMPLATE_BYTES, FileFormatError, read_csv
+    from tabletop.files import FileFormatError
+    from tabletop.plugins.scripted import read_gesture
     found: list[tuple[int, list]] = []
+    read: dict[str, object] = {}    # each template read once, however many actions share it
     for e in cfg["engines"]:
         if e["kind"] != "mop":
             continue
@@ -45,12 +47,14 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
             for c in e["characters"]:
                 for a in c["actions"]:
                     if (a["performer"] or c["performer"]) == p["name"]:
-                        try:
-                            read_csv(a["template"], required=("t", "dx", "dy"), min_rows=2,
-                                     max_bytes=MAX_TEMPLATE_BYTES)
-                        except FileFormatError:
-                            continue
-                        files.append(a["template"])
+                        key = str(a["template"])
+                        if key not in read:   # (the scripted build takes the rows read here)
+                            try:
+                                read[key] = read_gesture(a["template"])
+                            except FileFormatError:
+                                read[key] = None
+                        if read[key] is not None:
+                            files.append(read[key])
             if files:
                 found.append((inp["id"], files))
     w, h = table

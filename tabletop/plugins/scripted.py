@@ -8,7 +8,8 @@ test action following without a person at the table.
 from __future__ import annotations
 
 import time
-from typing import Callable
+from pathlib import Path
+from typing import Any, Callable
 
 import numpy as np
 
@@ -17,7 +18,6 @@ from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
-
 
 
 def check_pucks(options: dict, path: str, ctx: Context) -> None:
@@ -34,18 +34,47 @@ def check_pucks(options: dict, path: str, ctx: Context) -> None:
                 raise ctx.error(where, f"puck {pid} is also {key}[{first[pid]}]; give each "
                                        "puck once")
             first[pid] = j
-    for j, p in enumerate(options["performers"]):
-        for i, g in enumerate(p["gestures"]):
-            try:   # read at load as a MOP template is: the key is named, not only the file
-                read_gesture(g)
-            except FileFormatError as exc:
-                raise ctx.error(f"{path}.performers[{j}].gestures[{i}]", str(exc)) from None
 
 
-def read_gesture(path: str) -> tuple[list[str], np.ndarray]:
-    """A gesture CSV's columns and rows (``t,dx,dy``: s, m, m from the start)."""
-    return read_csv(path, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
-                    max_bytes=MAX_TEMPLATE_BYTES)
+class Gesture(type(Path())):
+    """A gesture CSV's path (equal to it, as any config path) carrying the ``rows`` read from
+    it when its config was loaded (columns t, dx, dy: s, m, m from the start; read-only), so
+    the build takes them without reading the file again."""
+
+    rows: np.ndarray
+
+    def __reduce__(self) -> tuple:
+        return _gesture, (str(self), self.rows)
+
+
+def _gesture(path: str, rows: np.ndarray) -> Gesture:
+    g = Gesture(path)
+    g.rows = rows
+    return g
+
+
+def read_gesture(path: str | Path) -> Gesture:
+    """A gesture CSV (columns ``t,dx,dy`` among others, at least two rows) read."""
+    cols, data = read_csv(path, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
+                          max_bytes=MAX_TEMPLATE_BYTES)
+    rows = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    rows.setflags(write=False)       # shared by every build of the config it was read for
+    return _gesture(str(path), rows)
+
+
+class GestureFile(FilePath):
+    """A gesture CSV named in the config, read at load as a MOP template is (a damaged one is
+    refused naming its key, not only the file); its value is the :class:`Gesture`."""
+
+    def __init__(self, doc: str = "") -> None:
+        super().__init__(kind="file", doc=doc)
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Gesture:
+        p = super().validate(value, path, ctx)
+        try:
+            return read_gesture(p)
+        except FileFormatError as exc:
+            raise ctx.error(path, str(exc)) from None
 
 
 SCHEMA = Record({
@@ -55,7 +84,7 @@ SCHEMA = Record({
     "performers": ListOf(Record({
         "puck": Number(integer=True, lo=0, hi=10_000, doc="marker id of the performing puck"),
         "home": ListOf(Number(lo=0.0), min_len=2, max_len=2, doc="where it rests, metres"),
-        "gestures": ListOf(FilePath(kind="file"), min_len=1,
+        "gestures": ListOf(GestureFile(), min_len=1,
                            doc="CSV files with columns t,dx,dy (s, m, m from the start)"),
         "speed": Range(Number(lo=0.05, hi=20.0), default=[0.6, 1.6],
                        doc="range of speed factors (1 = as recorded)"),
@@ -102,10 +131,10 @@ class ScriptedSource:
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
     performers = {}
     for k, p in enumerate(options["performers"]):
-        gestures = [read_gesture(g) for g in p["gestures"]]
-        arrays = [data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
-                  for cols, data in gestures]
-        performers[p["puck"]] = GesturePerformer(arrays, tuple(p["home"]),
+        gestures = [g.rows if isinstance(g, Gesture) else read_gesture(g).rows
+                    for g in p["gestures"]]
+        performers[p["puck"]] = GesturePerformer(gestures,
+                                                 tuple(p["home"]),
                                                  seed=options["seed"] * 31 + k,
                                                  speed=tuple(p["speed"]))
     wandering = [pid for pid in options["pucks"] if pid not in performers]

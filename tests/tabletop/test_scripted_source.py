@@ -1,16 +1,25 @@
 """The scripted source's gesture files are read when its config is loaded, as a MOP template
 is: a damaged one is refused naming the config key as well as the file and line (it was
-refused at the build, in a kiosk's start too, naming the file alone)."""
+refused at the build, in a kiosk's start too, naming the file alone), and the build takes the
+rows read then instead of reading each file again."""
 
+import pickle
 import shutil
+from collections import Counter
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from tabletop.config import load_config
+from tabletop.files import read_csv
+from tabletop.kiosk.attract import attract_performers
+from tabletop.plugins import scripted
+from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
 
-GESTURES = Path(__file__).resolve().parents[2] / "examples" / "mop" / "gestures"
+ROOT = Path(__file__).resolve().parents[2]
+GESTURES = ROOT / "examples" / "mop" / "gestures"
 
 
 def test_a_damaged_gesture_file_is_refused_naming_its_key(tmp_path):
@@ -26,3 +35,47 @@ def test_a_damaged_gesture_file_is_refused_naming_its_key(tmp_path):
     assert str(err.value).startswith(
         f"{cfg}: sources[0].performers[0].gestures[1]: {tmp_path / 'circle.csv'}: "
         f"line {lines}: column 'dy': ")
+
+
+def _counting_reads(monkeypatch) -> Counter:
+    reads: Counter = Counter()
+    real = scripted.read_csv
+
+    def counting(path, *args, **kwargs):
+        reads[Path(path).name] += 1
+        return real(path, *args, **kwargs)
+
+    monkeypatch.setattr(scripted, "read_csv", counting)
+    return reads
+
+
+def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monkeypatch):
+    for name in ("line.csv", "circle.csv"):
+        shutil.copy(GESTURES / name, tmp_path / name)
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
+                        "      - {puck: 2, home: [0.5, 0.4], gestures: [line.csv, circle.csv]}\n")
+    reads = _counting_reads(monkeypatch)
+    cfg = load_config(cfg_path)
+    options = cfg["sources"][0]
+    source = scripted.build(options, BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    assert reads == {"line.csv": 1, "circle.csv": 1}
+    # the config's value is still the file's path (a config loaded again equals it) ...
+    gestures = options["performers"][0]["gestures"]
+    assert gestures == [tmp_path / "line.csv", tmp_path / "circle.csv"]
+    assert load_config(cfg_path) == cfg
+    # ... and the performer draws the rows read then, as a pickled config would
+    cols, data = read_csv(GESTURES / "circle.csv")
+    circle = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert np.array_equal(source.performers[2].gestures[1], circle)
+    assert np.array_equal(pickle.loads(pickle.dumps(gestures))[1].rows, circle)
+
+
+def test_attract_reads_each_template_once_for_its_performers(monkeypatch):
+    cfg = load_config(ROOT / "examples" / "mop.yaml")
+    reads = _counting_reads(monkeypatch)
+    options = {"name": "attract", "pucks": [], "seed": 0,
+               "performers": attract_performers(cfg, (1.2, 0.8))}
+    source = scripted.build(options, BuildContext((1.2, 0.8), 60.0, cfg, ROOT))
+    assert sorted(source.performers) == [1, 2]
+    assert reads and set(reads.values()) == {1}
