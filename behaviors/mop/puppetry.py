@@ -150,9 +150,9 @@ class PlanarRig:
                             f"creature ({', '.join(self.skeleton.names)})")
 
     def pose(self, clip: Clip, progress: float) -> np.ndarray:
-        bones, cols, plain = clip.driving(self.skeleton.names)
+        bones, values = clip.driven(self.skeleton.names, progress)
         angles = np.zeros(len(self.skeleton.names))
-        angles[bones] = clip.sample_columns(progress, cols, plain)
+        angles[bones] = values
         return _forward_to_up(self.skeleton.forward(angles))
 
     def rest(self) -> np.ndarray:
@@ -175,9 +175,9 @@ class FaceRig:
                             f"({', '.join(self.face.BLENDSHAPES)})")
 
     def pose(self, clip: Clip, progress: float) -> np.ndarray:
-        shapes, cols, plain = clip.driving(self.face.BLENDSHAPES)
+        shapes, values = clip.driven(self.face.BLENDSHAPES, progress)
         w = np.zeros(len(self._index))
-        w[shapes] = clip.sample_columns(progress, cols, plain)
+        w[shapes] = values
         return self.face.points(w)
 
     def rest(self) -> np.ndarray:

@@ -241,10 +241,12 @@ class Clip:
             out[cols] = quat_slerp(a[cols].reshape(-1, 4), b[cols].reshape(-1, 4), f).reshape(-1)
         return out
 
-    def driving(self, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray, bool]:
-        """Which of a rig's slots ``names`` (joint angles, blendshapes) this clip drives: (their
-        indices in ``names``, the first column of each here, whether all are scalar columns),
-        found once per ``names``."""
+    def driven(self, names: tuple[str, ...], progress: float) -> tuple[np.ndarray, np.ndarray]:
+        """The slots of a rig's ``names`` (joint angles, blendshapes) this clip drives (their
+        indices in ``names``) and their values at ``progress``: ``sample(progress)`` at those
+        channels' first columns. Scalar channels alone are interpolated by themselves: a hybrid
+        humanoid's face read its 8 blendshapes through the slerp of its 9 quaternion joints
+        (~100 us of a 130 us face pose)."""
         found = self._driving.get(names)
         if found is None:
             pairs = [(i, self.slices[n].start) for i, n in enumerate(names) if n in self.slices]
@@ -253,17 +255,12 @@ class Clip:
                                                       if t != "scalar"])).any()
             found = self._driving[names] = (np.array([i for i, _ in pairs], dtype=np.intp),
                                             cols, bool(plain))
-        return found
-
-    def sample_columns(self, progress: float, cols: np.ndarray, plain: bool) -> np.ndarray:
-        """``sample(progress)[cols]``; scalar columns (``plain``) alone interpolated: a hybrid
-        humanoid's face read its 8 blendshapes through the slerp of its 9 quaternion joints
-        (~100 us of a 130 us face pose)."""
+        slots, cols, plain = found
         if not plain:
-            return self.sample(progress)[cols]
+            return slots, self.sample(progress)[cols]
         i, f = self._segment(progress)
         a, b = self.values[i, cols], self.values[i + 1, cols]
-        return a + f * (b - a)
+        return slots, a + f * (b - a)
 
     def sample_many(self, progress: np.ndarray) -> np.ndarray:
         """Poses (M x D) at many progress values."""

@@ -139,13 +139,14 @@ def test_resampled_keeps_the_motion():
 
 def test_a_rigs_columns_sampled_alone_are_the_whole_samples():
     clip = _mixed_clip()
-    slots, cols, plain = clip.driving(("x", "w", "q"))
-    assert slots.tolist() == [1, 2] and cols.tolist() == [0, 2] and not plain   # q: a quat
-    slots, cols, plain = clip.driving(("f", "w"))
-    assert slots.tolist() == [0, 1] and cols.tolist() == [6, 0] and not plain   # f: a frame
-    slots, cols, plain = clip.driving(("w", "nothing"))
-    assert slots.tolist() == [0] and cols.tolist() == [0] and plain
+    slots, _ = clip.driven(("x", "w", "q"), 0.5)
+    assert slots.tolist() == [1, 2]                      # w and q (a quat: the whole sample)
+    slots, _ = clip.driven(("f", "w"), 0.5)
+    assert slots.tolist() == [0, 1]                      # f: a frame
+    slots, _ = clip.driven(("w", "nothing"), 0.5)
+    assert slots.tolist() == [0]                         # w alone: interpolated by itself
     for p in [*np.linspace(-0.1, 1.1, 53), math.nan]:
-        for names in (("w",), ("a", "w"), ("q", "f", "w")):
-            _, cols, plain = clip.driving(names)
-            assert np.array_equal(clip.sample_columns(p, cols, plain), clip.sample(p)[cols])
+        for names in (("w",), ("a", "w"), ("q", "f", "w"), ("x", "w", "q")):
+            slots, values = clip.driven(names, p)
+            cols = [clip.slices[names[i]].start for i in slots]
+            assert np.array_equal(values, clip.sample(p)[cols])
