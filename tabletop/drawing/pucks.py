@@ -197,7 +197,7 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
                           [i for i, ok in zip(inks, k) if ok], geo[keep, 2], to_screen.H, t,
                           trail_s)
     rings, notches, labels = [], {}, []
-    reading = to_screen.reading()
+    reading, window = to_screen.reading(), surf.get_rect()
     ring, append = P.ring_surface, out.append
     for (tr, _, _), (_, color, _), (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
             items, looks, geo.tolist()):
@@ -215,11 +215,9 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
         if nr > 0:
             notches.setdefault((int(ncol), nr), []).append((nx, ny))
         if label is not None:
-            rr = round(R)
             img = label(tr.puck.id)
-            labels.append((img, reading.at(img.get_size(),
-                                           reading.offset((xi, yi), 0.75 * rr, rr),
-                                           (0.0, 0.6))))
+            labels.append((img, label_place(reading, img.get_size(), (xi, yi), round(R),
+                                            window)))
     surf.fblits(rings, pygame.BLEND_ADD)
     for (col, rad), q in notches.items():
         # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)
@@ -239,6 +237,27 @@ def puck_color(puck_id: int) -> Color:
 # least 1 px): over a character its colour alone did not read (the orange "1" on the pink
 # lover of examples/split, the contrast ratio of their light 1.2).
 LABEL_RIM = 0.06
+
+
+# (right, up) sides of a halo its id is tried on, as the reader sees them
+_SIDES = ((1, 1), (-1, 1), (1, -1), (-1, -1))
+
+
+def label_place(reading: Reading, size: tuple[int, int], centre: tuple[int, int], r: int,
+                window: pygame.Rect) -> pygame.Rect:
+    """Where a puck's id (``size`` px) stands beside its halo (``centre``, radius ``r`` px):
+    at the halo's upper right as the reader sees it, else the first of its upper left, lower
+    right and lower left that lies whole in ``window``, else moved into it. A table filling
+    the projector's image put the id of a puck within a halo of its far or right edge out of
+    the window: the designer saw a ring without its id."""
+    first = None
+    for right, up in _SIDES:
+        rect = reading.at(size, reading.offset(centre, right * 0.75 * r, up * r),
+                          (0.0 if right > 0 else 1.0, 0.6 if up > 0 else 0.4))
+        if window.contains(rect):
+            return rect
+        first = first or rect
+    return first.clamp(window)
 
 
 def id_label(puck_id: int, px: int, reading: Reading) -> pygame.Surface:
