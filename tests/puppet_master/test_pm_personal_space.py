@@ -96,3 +96,22 @@ def test_a_push_off_the_table_goes_as_far_as_the_edge():
     assert abs(x - 0.0135) < 1e-12 and y == 0.0
     x, y = table_boundary.keep_apart(0.12, 0.1, disc, table)          # room inside: the full push
     assert abs(np.hypot(x - 0.05, y - 0.05) - 0.105) < 1e-12
+
+
+def test_a_point_among_several_discs_is_pushed_out_of_all():
+    # on a disc's centre: out by the least distance (it went 1 m along +x, to the edge), along
+    # the first axis with room (-x at the right edge); three discs in a row: clear of each
+    # (one pass pushed it out of the last into the first)
+    from behaviors.puppet_master import generation_kernel, table_boundary
+    table = (0.0, 0.0, 1.2, 0.8)
+    c = np.array(table)
+    cases = [((0.3, 0.0), [(0.3, 0.0, 0.08)], (0.38, 0.0)),
+             ((1.2, 0.4), [(1.2, 0.4, 0.08)], (1.12, 0.4)),
+             ((0.5, 0.4), [(0.5, 0.4, 0.08), (0.55, 0.4, 0.08), (0.42, 0.4, 0.08)], None)]
+    for (x, y), discs, want in cases:
+        got = table_boundary.keep_apart(x, y, discs, table)
+        assert got == generation_kernel.keep_apart(x, y, np.array(discs), c)
+        if want is not None:
+            assert np.allclose(got, want, atol=1e-12), got
+        for ox, oy, least in discs:
+            assert np.hypot(got[0] - ox, got[1] - oy) >= least - 1e-12, (got, ox)

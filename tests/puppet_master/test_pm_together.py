@@ -144,3 +144,22 @@ def test_a_cycle_of_three_reactors_starts_and_reacts():
     out = run(engines, visitor_frames(5))
     for v in out.values():
         assert v[5:, 3].all() and np.isfinite(v).all()
+
+
+def test_three_and_four_reactors_of_any_size_on_one_main_never_overlap():
+    # characters of one behaviour start on one spot: the second went a whole metre aside (to
+    # the table's edge) and the third onto it, and one pass over the discs pushed a fourth out
+    # of one into another (least gap over the pair's mean size 0.0 on the first frames)
+    for names, sizes, seed in ((["lover"] * 3, [0.08] * 3, 4),
+                               (["bully"] * 4, [0.04, 0.08, 0.15, 0.25], 3)):
+        engines = [_engine(f"r{k}", n, {"puck": 1}, size=s)
+                   for k, (n, s) in enumerate(zip(names, sizes))]
+        out = run(build(engines), visitor_frames(2, seed=seed))
+        for a in range(len(names)):
+            for b in range(a + 1, len(names)):
+                pa, pb = out[f"r{a}"], out[f"r{b}"]
+                assert pa[:, 3].all() and pb[:, 3].all()
+                gap = np.hypot(*(pa[:, :2] - pb[:, :2]).T) / (0.5 * (sizes[a] + sizes[b]))
+                assert gap.min() >= 0.9, (names[a], a, b, gap.min())    # measured 1.0, 0.963
+        # the second starts beside the first, not across the table
+        assert np.hypot(*(out["r1"][0, :2] - out["r0"][0, :2])) < 0.2      # 0.08, 0.06
