@@ -16,7 +16,8 @@ import numpy as np
 
 from behaviors.puppet_master import step_math, table_boundary
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
-from behaviors.puppet_master.table_boundary import APART_PASSES, EDGE_TURN
+from behaviors.puppet_master.table_boundary import (APART_PASSES, EDGE_EPS, EDGE_TURN,
+                                                     SLIDE_DEPTH)
 from behaviors.kernel_cache import compiled
 
 # the table among the step's constants (Reactor._cs)
@@ -230,6 +231,25 @@ def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> floa
     return reach
 
 
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F1), step_math, table_boundary)
+def along_edge(x: float, y: float, ox: float, oy: float, least: float,
+               c: np.ndarray) -> tuple[float, float]:
+    """table_boundary.along_edge (table from the constants)."""
+    if x <= c[X0] + EDGE_EPS or x >= c[X1] - EDGE_EPS:
+        h = least * least - (x - ox) * (x - ox)
+        if h > 0.0:
+            ny = oy + math.copysign(math.sqrt(h), y - oy)
+            if c[Y0] <= ny <= c[Y1]:
+                return x, ny
+    if y <= c[Y0] + EDGE_EPS or y >= c[Y1] - EDGE_EPS:
+        h = least * least - (y - oy) * (y - oy)
+        if h > 0.0:
+            nx = ox + math.copysign(math.sqrt(h), x - ox)
+            if c[X0] <= nx <= c[X1]:
+                return nx, y
+    return x, y
+
+
 @compiled(_P2(_f8, _f8, _f8, _F1), step_math)
 def _free_axis(x: float, y: float, least: float, c: np.ndarray) -> tuple[float, float]:
     """table_boundary._free_axis (table from the constants)."""
@@ -248,7 +268,7 @@ def _free_axis(x: float, y: float, least: float, c: np.ndarray) -> tuple[float, 
 @compiled(_P2(_f8, _f8, _F2, _F1), step_math, table_boundary)
 def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
     """table_boundary.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
-    for _ in range(APART_PASSES):
+    for visit in range(APART_PASSES):
         moved = False
         for k in range(others.shape[0]):
             ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
@@ -261,6 +281,8 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
                 else:
                     push = _max(d, _min(least, table_reach(ox, oy, dx / d, dy / d, c)))
                 x, y = ox + dx * push / d, oy + dy * push / d
+                if visit > 0 and push < (1.0 - SLIDE_DEPTH) * least:
+                    x, y = along_edge(x, y, ox, oy, least, c)
                 moved = True
         if not moved or others.shape[0] < 2:
             break

@@ -115,3 +115,19 @@ def test_a_point_among_several_discs_is_pushed_out_of_all():
             assert np.allclose(got, want, atol=1e-12), got
         for ox, oy, least in discs:
             assert np.hypot(got[0] - ox, got[1] - oy) >= least - 1e-12, (got, ox)
+
+
+def test_a_point_pinned_at_an_edge_slides_along_it():
+    # a character pressed into the top edge by another's disc (centre 3.5 cm below the edge,
+    # 1 cm aside) could only be pushed along the line between the centres, which the edge cut
+    # to nothing: it stayed 3.6 cm from a centre it must keep 8 cm from; with a second disc on
+    # the table it slides along the edge to 8 cm. One disc alone keeps the push as it was.
+    from behaviors.puppet_master import generation_kernel, table_boundary
+    table = (0.0, 0.0, 1.2, 0.8)
+    c = np.array(table)
+    discs = [(1.2, 0.765, 0.08), (0.5, 0.4, 0.08)]
+    got = table_boundary.keep_apart(1.19, 0.8, discs, table)
+    assert got == generation_kernel.keep_apart(1.19, 0.8, np.array(discs), c)
+    assert got[1] == 0.8 and abs(np.hypot(got[0] - 1.2, got[1] - 0.765) - 0.08) < 1e-12, got
+    alone = table_boundary.keep_apart(1.19, 0.8, discs[:1], table)
+    assert np.hypot(alone[0] - 1.2, alone[1] - 0.765) < 0.04                    # 0.036
