@@ -231,22 +231,29 @@ def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> floa
     return reach
 
 
+@compiled(_f8(_f8, _f8, _f8, _f8, _f8, _f8), step_math)
+def _along(off: float, centre: float, at: float, lo: float, hi: float, least: float) -> float:
+    """table_boundary._along."""
+    h = least * least - off * off
+    if h > 0.0:
+        n = centre + math.copysign(math.sqrt(h), at - centre)
+        if lo <= n <= hi:
+            return n
+    return math.nan
+
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F1), step_math, table_boundary)
 def along_edge(x: float, y: float, ox: float, oy: float, least: float,
                c: np.ndarray) -> tuple[float, float]:
     """table_boundary.along_edge (table from the constants)."""
     if x <= c[X0] + EDGE_EPS or x >= c[X1] - EDGE_EPS:
-        h = least * least - (x - ox) * (x - ox)
-        if h > 0.0:
-            ny = oy + math.copysign(math.sqrt(h), y - oy)
-            if c[Y0] <= ny <= c[Y1]:
-                return x, ny
+        ny = _along(x - ox, oy, y, c[Y0], c[Y1], least)
+        if ny == ny:
+            return x, ny
     if y <= c[Y0] + EDGE_EPS or y >= c[Y1] - EDGE_EPS:
-        h = least * least - (y - oy) * (y - oy)
-        if h > 0.0:
-            nx = ox + math.copysign(math.sqrt(h), x - ox)
-            if c[X0] <= nx <= c[X1]:
-                return nx, y
+        nx = _along(y - oy, ox, x, c[X0], c[X1], least)
+        if nx == nx:
+            return nx, y
     return x, y
 
 

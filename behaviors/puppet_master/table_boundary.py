@@ -335,18 +335,26 @@ def along_edge(x: float, y: float, ox: float, oy: float, least: float,
     else (x, y)."""
     x0, y0, x1, y1 = table
     if x <= x0 + EDGE_EPS or x >= x1 - EDGE_EPS:          # a side edge: along y
-        h = least * least - (x - ox) * (x - ox)
-        if h > 0.0:
-            ny = oy + math.copysign(math.sqrt(h), y - oy)
-            if y0 <= ny <= y1:
-                return x, ny
+        ny = _along(x - ox, oy, y, y0, y1, least)
+        if ny == ny:
+            return x, ny
     if y <= y0 + EDGE_EPS or y >= y1 - EDGE_EPS:          # the bottom or top edge: along x
-        h = least * least - (y - oy) * (y - oy)
-        if h > 0.0:
-            nx = ox + math.copysign(math.sqrt(h), x - ox)
-            if x0 <= nx <= x1:
-                return nx, y
+        nx = _along(y - oy, ox, x, x0, x1, least)
+        if nx == nx:
+            return nx, y
     return x, y
+
+
+def _along(off: float, centre: float, at: float, lo: float, hi: float, least: float) -> float:
+    """Where along an edge (from ``at``, away from the disc's ``centre`` coordinate) a disc
+    whose centre lies ``off`` metres across from the edge is ``least`` away; nan where no such
+    point lies within [lo, hi]."""
+    h = least * least - off * off
+    if h > 0.0:
+        n = centre + math.copysign(math.sqrt(h), at - centre)
+        if lo <= n <= hi:
+            return n
+    return math.nan
 
 
 EDGE_EPS = 1e-9      # metres: a position this near an edge is on it (along_edge)
