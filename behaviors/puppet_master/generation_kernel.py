@@ -16,7 +16,8 @@ import numpy as np
 
 from behaviors.puppet_master import step_math, table_boundary
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
-from behaviors.puppet_master.table_boundary import EDGE_TURN
+from behaviors.puppet_master.table_boundary import (APART_PASSES, EDGE_EPS, EDGE_TURN,
+                                                     SLIDE_DEPTH)
 from behaviors.kernel_cache import compiled
 
 # the table among the step's constants (Reactor._cs)
@@ -230,22 +231,72 @@ def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> floa
     return reach
 
 
-@compiled(_P2(_f8, _f8, _F2, _F1), step_math)
+@compiled(_f8(_f8, _f8, _f8, _f8, _f8, _f8), step_math)
+def _along(off: float, centre: float, at: float, lo: float, hi: float, least: float) -> float:
+    """table_boundary._along."""
+    h = least * least - off * off
+    if h > 0.0:
+        n = centre + math.copysign(math.sqrt(h), at - centre)
+        if lo <= n <= hi:
+            return n
+    return math.nan
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F1), step_math, table_boundary)
+def along_edge(x: float, y: float, ox: float, oy: float, least: float,
+               c: np.ndarray) -> tuple[float, float]:
+    """table_boundary.along_edge (table from the constants)."""
+    if x <= c[X0] + EDGE_EPS or x >= c[X1] - EDGE_EPS:
+        ny = _along(x - ox, oy, y, c[Y0], c[Y1], least)
+        if ny == ny:
+            return x, ny
+    if y <= c[Y0] + EDGE_EPS or y >= c[Y1] - EDGE_EPS:
+        nx = _along(y - oy, ox, x, c[X0], c[X1], least)
+        if nx == nx:
+            return nx, y
+    return x, y
+
+
+@compiled(_P2(_f8, _f8, _f8, _F1), step_math)
+def _free_axis(x: float, y: float, least: float, c: np.ndarray) -> tuple[float, float]:
+    """table_boundary._free_axis (table from the constants)."""
+    bx, by, most = 1.0, 0.0, -math.inf
+    for k in range(4):
+        ux = 1.0 if k == 0 else (-1.0 if k == 1 else 0.0)
+        uy = 1.0 if k == 2 else (-1.0 if k == 3 else 0.0)
+        reach = table_reach(x, y, ux, uy, c)
+        if reach >= least:
+            return ux, uy
+        if reach > most:
+            bx, by, most = ux, uy, reach
+    return bx, by
+
+
+@compiled(_P2(_f8, _f8, _F2, _F1), step_math, table_boundary)
 def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
     """table_boundary.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
-    for k in range(others.shape[0]):
-        ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
-        dx, dy = x - ox, y - oy
-        d = hypot(dx, dy)
-        if d < least:
-            if d < 1e-9:
-                dx, dy, d = 1.0, 0.0, 1.0
-            push = _max(d, _min(least, table_reach(ox, oy, dx / d, dy / d, c)))
-            x, y = ox + dx * push / d, oy + dy * push / d
+    for visit in range(APART_PASSES):
+        moved = False
+        for k in range(others.shape[0]):
+            ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
+            dx, dy = x - ox, y - oy
+            d = hypot(dx, dy)
+            if d < least:
+                if d < 1e-9:
+                    dx, dy = _free_axis(ox, oy, least, c)
+                    push, d = _min(least, table_reach(ox, oy, dx, dy, c)), 1.0
+                else:
+                    push = _max(d, _min(least, table_reach(ox, oy, dx / d, dy / d, c)))
+                x, y = ox + dx * push / d, oy + dy * push / d
+                if visit > 0 and push < (1.0 - SLIDE_DEPTH) * least:
+                    x, y = along_edge(x, y, ox, oy, least, c)
+                moved = True
+        if not moved or others.shape[0] < 2:
+            break
     return clamp_to_table(x, y, c)
 
 
-@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math)
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math, table_boundary)
 def moved_on(x: float, y: float, sx: float, sy: float, f: float, others: np.ndarray,
              c: np.ndarray) -> tuple[float, float]:
     """engine.Reactor.update's position between two steps: (x, y) moved on by the share ``f``

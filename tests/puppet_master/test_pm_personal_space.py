@@ -96,3 +96,38 @@ def test_a_push_off_the_table_goes_as_far_as_the_edge():
     assert abs(x - 0.0135) < 1e-12 and y == 0.0
     x, y = table_boundary.keep_apart(0.12, 0.1, disc, table)          # room inside: the full push
     assert abs(np.hypot(x - 0.05, y - 0.05) - 0.105) < 1e-12
+
+
+def test_a_point_among_several_discs_is_pushed_out_of_all():
+    # on a disc's centre: out by the least distance (it went 1 m along +x, to the edge), along
+    # the first axis with room (-x at the right edge); three discs in a row: clear of each
+    # (one pass pushed it out of the last into the first)
+    from behaviors.puppet_master import generation_kernel, table_boundary
+    table = (0.0, 0.0, 1.2, 0.8)
+    c = np.array(table)
+    cases = [((0.3, 0.0), [(0.3, 0.0, 0.08)], (0.38, 0.0)),
+             ((1.2, 0.4), [(1.2, 0.4, 0.08)], (1.12, 0.4)),
+             ((0.5, 0.4), [(0.5, 0.4, 0.08), (0.55, 0.4, 0.08), (0.42, 0.4, 0.08)], None)]
+    for (x, y), discs, want in cases:
+        got = table_boundary.keep_apart(x, y, discs, table)
+        assert got == generation_kernel.keep_apart(x, y, np.array(discs), c)
+        if want is not None:
+            assert np.allclose(got, want, atol=1e-12), got
+        for ox, oy, least in discs:
+            assert np.hypot(got[0] - ox, got[1] - oy) >= least - 1e-12, (got, ox)
+
+
+def test_a_point_pinned_at_an_edge_slides_along_it():
+    # a character pressed into the top edge by another's disc (centre 3.5 cm below the edge,
+    # 1 cm aside) could only be pushed along the line between the centres, which the edge cut
+    # to nothing: it stayed 3.6 cm from a centre it must keep 8 cm from; with a second disc on
+    # the table it slides along the edge to 8 cm. One disc alone keeps the push as it was.
+    from behaviors.puppet_master import generation_kernel, table_boundary
+    table = (0.0, 0.0, 1.2, 0.8)
+    c = np.array(table)
+    discs = [(1.2, 0.765, 0.08), (0.5, 0.4, 0.08)]
+    got = table_boundary.keep_apart(1.19, 0.8, discs, table)
+    assert got == generation_kernel.keep_apart(1.19, 0.8, np.array(discs), c)
+    assert got[1] == 0.8 and abs(np.hypot(got[0] - 1.2, got[1] - 0.765) - 0.08) < 1e-12, got
+    alone = table_boundary.keep_apart(1.19, 0.8, discs[:1], table)
+    assert np.hypot(alone[0] - 1.2, alone[1] - 0.765) < 0.04                    # 0.036

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from behaviors.puppet_master import designers, fidelity
-from tabletop.frames import InputError
-from tests.puppet_master.test_plugin import build, main_track, run, visitor_frames
+from tabletop.frames import Frame, InputError, Puck
+from tests.puppet_master.test_plugin import TABLE, build, main_track, run, visitor_frames
+from tracking.visitor import ScriptedVisitor
 
 
 def _engine(name, behavior, main, **extra):
@@ -144,3 +145,38 @@ def test_a_cycle_of_three_reactors_starts_and_reacts():
     out = run(engines, visitor_frames(5))
     for v in out.values():
         assert v[5:, 3].all() and np.isfinite(v).all()
+
+
+def test_three_and_four_reactors_of_any_size_on_one_main_never_overlap():
+    # characters of one behaviour start on one spot: the second went a whole metre aside (to
+    # the table's edge) and the third onto it, and one pass over the discs pushed a fourth out
+    # of one into another (least gap over the pair's mean size 0.0 on the first frames)
+    for names, sizes, seed in ((["lover"] * 3, [0.08] * 3, 4),
+                               (["bully"] * 4, [0.04, 0.08, 0.15, 0.25], 3)):
+        engines = [_engine(f"r{k}", n, {"puck": 1}, size=s)
+                   for k, (n, s) in enumerate(zip(names, sizes))]
+        out = run(build(engines), visitor_frames(2, seed=seed))
+        for a in range(len(names)):
+            for b in range(a + 1, len(names)):
+                pa, pb = out[f"r{a}"], out[f"r{b}"]
+                assert pa[:, 3].all() and pb[:, 3].all()
+                gap = np.hypot(*(pa[:, :2] - pb[:, :2]).T) / (0.5 * (sizes[a] + sizes[b]))
+                assert gap.min() >= 0.9, (names[a], a, b, gap.min())    # measured 1.0, 0.963
+        # the second starts beside the first, not across the table
+        assert np.hypot(*(out["r1"][0, :2] - out["r0"][0, :2])) < 0.2      # 0.08, 0.06
+
+
+def test_a_chasing_ring_keeps_apart_in_a_corner():
+    # the bully chases the afraid character, which flees the stalker, which stalks the bully
+    # or the visitor's fast puck, whichever is nearer: the bully pushed into a corner, the
+    # stalker pressed onto it along the edge came within 0.446 of their size (the push along
+    # the line between them ran into the edge); it slides along the edge (measured 0.974)
+    engines = [_engine("a", "bully", {"character": "b"}),
+               _engine("b", "afraid", {"character": "c"}),
+               _engine("c", "stalker", {"nearest": [{"character": "a"}, {"puck": 1}]})]
+    v = ScriptedVisitor(TABLE, [1, 2], seed=5, speed=(0.5, 1.0))
+    frames = [Frame(seq=i, t=50.0 + i / 60, pucks=tuple(Puck(p, x, y, a) for p, x, y, a in
+                                                       v.poses(i / 60))) for i in range(900)]
+    out = run(build(engines), frames)
+    gap = np.hypot(*(out["a"][5:, :2] - out["c"][5:, :2]).T) / 0.08
+    assert gap.min() >= 0.9, gap.min()
