@@ -113,6 +113,15 @@ class StepDetail(StepSenses):
             # walking 0.0904 / 0.0859 -> 0.0912 / 0.0875, but its still pace rose with its
             # still cap (seed 2 slow still/moving 0.564 -> 0.631); misses on those six paths 6
             # -> 7. Not kept
+            # Beside a standing main its pace is short after the smooth (step.py, at the still
+            # cap: 0.034-0.041 m/s over 0.1 s, shown 0.049-0.054). This keeper there at main-frame
+            # places too, the lover alone, Python step, one run, its misses (the engine's) on
+            # seeds 0-5 / 40-51 / 128-139 / 300-311 against 15 (2) / 29 (6) / 28 (5) / 25 (9): 13
+            # (1) / 30 (7) / 30 (5) / 22 (4) (three runs, relative_motion x 1, 1 +- 0.001: 283
+            # (57) in all against 276 (62)); also aiming at the raw steps' whole mean length
+            # (share 1) there: 14 (2) / 30 (5) / 27 (6) / 21 (8), its slow-path still pace 0.0497
+            # -> 0.0511 m/s; share 1 at world places alone: seeds 0-5, 40-51 48 (12) against 44
+            # (8). Not kept
             sx, sy, self._straight = kept_straightness(
                 sx, sy, sm.xs, sm.ys, b.straightness, self._straight, self.governor.decay,
                 self._keep_length)
