@@ -372,21 +372,8 @@ class GenerationStep(StepDetail):
             # Measured too (the lover's misses / the engine's over those nine runs, against
             # 124 / 26): its main-frame correction at the moment's pace 148 / 40 (its walk
             # slowed), only while the live main stands 127 / 29 (loops: 0.039 m/s, too slow).
-            # Deep in a stand (0.25 s or more into the bench's still window; slow paths of
-            # seeds 42, 46, 138, 300, Python step) the lover's matched moments go 0.073-0.093
-            # m/s, its raw steps 0.062 (this cap, 0.060, holds 93% of them), the linear smooth
-            # leaves 0.043-0.046 (0.038 at main-frame places, where no keeper lengthens it),
-            # and it moves 0.034-0.041 m/s over 0.1 s, where shown it keeps 0.049-0.054 at
-            # every time into a stop (its designer 0.050-0.057). Its path there is as straight
-            # over 4 steps as shown (0.73-0.81 against 0.75): the pace is short, not rougher.
-            # This cap on the smoothed step instead (raw steps at their place's own cap), the
-            # lover alone, Python step, one run, its misses (the engine's) on seeds 0-5 /
-            # 40-51 / 128-139 / 300-311 against 15 (2) / 29 (6) / 28 (5) / 25 (9): its
-            # slow-path still pace 0.0497 -> 0.0528 m/s (shown 0.0526), fast and loops
-            # still/moving misses 12 -> 6, but the slow paths' 10 -> 16, over the band (its
-            # walk there, 0.086-0.10 m/s, is short: step_detail.py) and slow orbit 14 -> 19:
-            # 20 (4) / 34 (13) / 27 (6) / 23 (8). Not kept; the keeper beside a standing main:
-            # step_detail.py.
+            # Deep in a stand the lover's pace is short after the smooth, and this cap on the
+            # smoothed step instead was measured: step_detail.py (the keeper), not kept.
             recent = self._main_recent
             if len(recent) == recent.maxlen and (b.walked[target] or (
                     b.walks_with_main and place != PLACE_WORLD)):
