@@ -132,6 +132,12 @@ class StepDetail(StepSenses):
             # paths whose stops are short (0.061-0.084 m/s: the read's lag), long stands leave it
             # under its designer (seed 138 0.034 against 0.059); a fix of the long stands alone
             # moves the mean to the band's edge, where its short walk holds the ratio. Not kept.
+            # With the walk's cap at least the moment's own motion and carried main step while the
+            # live main steps no farther than the moment's main (step.py, the lover's world places)
+            # as well: 13 (2) / 25 (5) / 27 (4) / 22 (9); three runs (relative_motion x 1, 1 +-
+            # 0.001) 265 (61) against 276 (62): its slow-path speed misses 56 (20) -> 37 (7), fast
+            # and loops still/moving 35 -> 15, but slow still/moving 29 -> 42, slow orbit 36 -> 43,
+            # loops speed 19 -> 30, seeds 40-51 80 -> 82. Not kept.
             # This keeper beside a standing main at main-frame places too, the lover alone, Python
             # step, one run, its misses (the engine's) on seeds 0-5 / 40-51 / 128-139 / 300-311
             # against 15 (2) / 29 (6) / 28 (5) / 25 (9): 13 (1) / 30 (7) / 30 (5) / 22 (4) (three
