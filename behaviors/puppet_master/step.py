@@ -372,6 +372,8 @@ class GenerationStep(StepDetail):
             # Measured too (the lover's misses / the engine's over those nine runs, against
             # 124 / 26): its main-frame correction at the moment's pace 148 / 40 (its walk
             # slowed), only while the live main stands 127 / 29 (loops: 0.039 m/s, too slow).
+            # Deep in a stand the lover's pace is short after the smooth, and this cap on the
+            # smoothed step instead was measured: step_detail.py (the keeper), not kept.
             recent = self._main_recent
             if len(recent) == recent.maxlen and (b.walked[target] or (
                     b.walks_with_main and place != PLACE_WORLD)):
