@@ -46,6 +46,17 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   0.9167, 0.243 / 0.0537 (the diagonal 0.258 -> 0.222; a memory of samples per template the
   compiled group does not keep). The misfit limits of "scale" invariance
   (:data:`~behaviors.mop.refusal.SCALED_SHAPE_LIMITS`) took that diagonal to 0.095 alone.
+  Nor is the threshold model's lead (:mod:`behaviors.mop.threshold`) forgotten with them where
+  the template judged afresh has the most evidence (the lead capped at its evidence; follower
+  and group kernel alike): a square drawn 1.4x, its first side followed as the line at size
+  0.95, sized 1.19 -> 1.38 at the corner, stayed under the threshold model (the templates'
+  share 0.000-0.35) for 10 samples; valid after 30% 0.571 -> 0.667 (0.645 -> 0.710 on
+  another seed). ``bench/follow_seeds.py --sections=sized,unrelated,sequences``, held-out
+  sized means 0.9000 -> 0.9003 (seeds 101-106) and 0.8944 -> 0.8948 (107-112), every seed
+  equal or up, but unrelated told worst on seed 102 0.0451 -> 0.0806 (a line drawn mirrored
+  at 1.4x among six, 0.044 -> 0.242: the cap drops the mirror chains' lead) and
+  ``bench/follow_quality.py`` after a stroke wrong valid 0.0046 -> 0.0074; two tests of
+  ``tests/mop/test_quality.py`` fail (the threshold model's gain on unrelated, the chains).
 - Along the path (:data:`ALONG`): what a sample tells the size is what does not lie along the
   template's direction at the followed state (the rest is progress, gone ahead or behind), so
   the least squares counts the part of each sample (and of its state) along that direction at
