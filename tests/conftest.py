@@ -40,7 +40,8 @@ def unprivileged() -> tuple[str, ...]:
 # measured with `pytest -n 2` on a busy machine, so relative weights only. A file missing here
 # is simply not moved.
 LONG_FILES = {
-    "tests/mop/test_quality.py": 17, "tests/kiosk/test_supervisor.py": 16,
+    "tests/mop/test_quality.py": 17, "tests/kiosk/test_supervisor.py": 9,
+    "tests/kiosk/test_supervisor_stop.py": 7,
     "tests/tabletop/test_cli.py": 11, "tests/mop/test_refusal.py": 10,
     "tests/puppet_master/test_pm_fidelity.py": 8, "tests/tabletop/test_replay_exact.py": 8,
     "tests/mop/test_resume.py": 7.5, "tests/kiosk/test_soak.py": 7.5,

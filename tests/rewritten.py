@@ -8,6 +8,12 @@ there; the workers start together, so without this none finds it (and none write
 the cache pytest itself reads (``__pycache__/NAME.cpython-3X-pytest-V.pyc``, checked against
 the source's hash). It uses pytest's own rewriting functions, which are not public: where they
 are missing or fail, nothing is written and the run only collects more slowly.
+
+The installed pytest plugins' modules (hypothesis, pytest-xdist: every package of a
+distribution with a ``pytest11`` entry point) are rewritten here too: pytest rewrites them in
+every process that imports them, and where ``PYTHONDONTWRITEBYTECODE`` is set none keeps its
+rewrite, so each worker and the controller rewrote the 81 a collection imports (1.0 CPU s a
+process; 0.25 s with them cached). Those already cached (their source unchanged) are left.
 """
 
 from __future__ import annotations
@@ -36,6 +42,32 @@ def files_rewritten(root: Path = HERE) -> list[Path]:
                   and "__pycache__" not in p.parts)
 
 
+def plugin_files() -> list[Path]:
+    """The installed pytest plugins' modules pytest rewrites as it imports them (the packages
+    and modules ``_pytest.config`` marks for rewriting: those of every distribution with a
+    ``pytest11`` entry point), less those whose cached rewrite is current; [] where pytest's
+    functions are missing."""
+    try:
+        import importlib.metadata as metadata
+
+        from _pytest.assertion import rewrite
+        from _pytest.config import _iter_rewritable_modules
+    except ImportError:
+        return []
+    out = []
+    for dist in metadata.distributions():
+        if not any(ep.group == "pytest11" for ep in dist.entry_points):
+            continue
+        names = set(_iter_rewritable_modules(str(f) for f in dist.files or ()))
+        for f in dist.files or ():
+            if f.suffix == ".py" and (f.parts[0] in names or Path(f).stem in names):
+                fn = Path(dist.locate_file(f))
+                pyc = rewrite.get_cache_dir(fn) / (fn.name[:-3] + rewrite.PYC_TAIL)
+                if fn.is_file() and rewrite._read_pyc(fn, pyc, _Quiet.trace) is None:
+                    out.append(fn)
+    return sorted(out)
+
+
 def write(path: str) -> bool:
     """Rewrite one file and write its cached byte-code; False where pytest's functions are
     missing or the file cannot be rewritten or written."""
@@ -53,11 +85,12 @@ def write(path: str) -> bool:
 
 def main() -> int:
     files = [str(p) for p in files_rewritten()]
+    plugins = [str(p) for p in plugin_files()]
     with ProcessPoolExecutor(os.cpu_count() or 1) as pool:
-        done = sum(pool.map(write, files, chunksize=8))
-    if done < len(files):
-        print(f"tests.rewritten: {len(files) - done} of {len(files)} test files not "
-              "pre-rewritten (pytest rewrites them itself)", file=sys.stderr)
+        done = list(pool.map(write, files + plugins, chunksize=8))
+    if sum(done[:len(files)]) < len(files):
+        print(f"tests.rewritten: {len(files) - sum(done[:len(files)])} of {len(files)} test "
+              "files not pre-rewritten (pytest rewrites them itself)", file=sys.stderr)
     return 0
 
 

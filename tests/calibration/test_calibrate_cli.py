@@ -1,5 +1,6 @@
 """``tabletop calibrate`` end to end on rendered images: every step writes the file atomically
-with a .bak, thresholds refuse unless --force, and bad input is refused in one line always."""
+with a .bak, thresholds refuse unless --force, and bad input is refused in one line always (the
+printed board and its sizes: test_calibrate_board.py)."""
 
 import cv2
 import numpy as np
@@ -192,28 +193,6 @@ def test_table_refusals(tmp_path, capsys, rig):
     assert code == 0 and "kept because of --force" in stdout and out.exists()
 
 
-def test_board_writes_the_picture_and_its_size(tmp_path, capsys):
-    code, stdout, _ = run(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "150")
-    import re
-    w_mm, h_mm = map(float, re.search(r"([0-9.]+) x ([0-9.]+) mm", stdout).groups())
-    assert code == 0 and w_mm == pytest.approx(300, abs=0.3) and h_mm == pytest.approx(220, abs=0.3)
-    img = cv2.imread(str(tmp_path / "b.png"), cv2.IMREAD_GRAYSCALE)
-    assert img.shape == (round(h_mm / 25.4 * 150), round(w_mm / 25.4 * 150))
-    refused(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "-3", words="--dpi")
-    refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", "1280", words="--size")
-    # the whole value is quoted, then the part that is wrong (it quoted only "0")
-    refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", "0,720",
-            words="--size '0,720': '0' must be a positive number")
-    for size in ("1e9,720", "8193,720", "100,720"):   # 1e9 ran out of memory, naming nothing
-        refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", size,
-                words=f"--size {size}: from 160 to 8192 pixels each way")
-    from calibration.files import Calibration
-    save_calibration(tmp_path / "c.yaml", Calibration(np.eye(3)))
-    refused(capsys, "projector", "--live", "--calibration", tmp_path / "c.yaml", "--out",
-            tmp_path / "c.yaml", "--size", "20000,20000", words="--size 20000,20000: from 160")
-    assert not (tmp_path / "p.png").exists()
-
-
 def test_check_from_a_config_passes_and_fails_when_the_projector_moved(tmp_path, capsys):
     """The shipped synthetic camera with its simulated projector: calibrated with the true
     geometry, the check passes; after the projector moved 5 mm it fails."""
@@ -270,18 +249,6 @@ def test_an_image_of_another_resolution_than_the_lens_is_refused(tmp_path, capsy
             words="640x480 pixels, but the lens was calibrated at 1280x720")
 
 
-def test_board_file_carries_its_print_resolution(tmp_path, capsys):
-    # a PNG without its resolution prints at the viewer's 72 or 96 dpi: a 300 dpi board 3-4
-    # times too large; with it, "100% scale" prints the squares at their size
-    from PIL import Image
-    code, stdout, _ = run(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "150")
-    assert code == 0
-    with Image.open(tmp_path / "b.png") as im:
-        dpi, width_px = im.info["dpi"], im.size[0]
-    assert dpi == pytest.approx((150, 150), abs=0.05)
-    assert width_px / dpi[0] * 25.4 == pytest.approx(300, abs=0.3)   # the printed width, mm
-
-
 def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
     # PNG bytes under a .jpg name, or no suffix at all, were written without a word
     for step, more in (("board", ()), ("pattern", ("--size", "1280,720"))):
@@ -301,44 +268,6 @@ def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
     assert line.startswith("tabletop calibrate table: error:") and "image not found" not in line
     # ... said as --out's file, which is no calibration (it read as a calibration file's key)
     assert f"--out {tmp_path / 'config.yaml'}: the file is there and is no calibration" in line
-
-
-@pytest.mark.parametrize("spec, dpi", [(None, "300"), ("9x6:25:18:DICT_6X6_250", "100")])
-def test_the_printed_board_is_opencvs_current_charuco_board(tmp_path, spec, dpi):
-    """DESIGN: ``--board COLSxROWS:SQUARE_MM:MARKER_MM:DICTIONARY`` (default
-    7x5:40:30:DICT_5X5_100) is OpenCV's ``CharucoBoard((COLS, ROWS), square, marker,
-    dictionary)``, current pattern: an outside script's plain OpenCV board, made from the spec
-    alone, finds every inner corner of the PNG (as a process writes it) where the printed
-    squares put it, and a legacy board (which differs for an even number of rows) does not."""
-    import subprocess
-    import sys
-    out = tmp_path / "board.png"
-    args = ["--board", spec] if spec else []
-    r = subprocess.run([sys.executable, "-m", "tabletop", "calibrate", "board", "--out", str(out),
-                        "--dpi", dpi, *args], capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0 and r.stderr == "", r.stderr
-    size, square, marker, name = (spec or "7x5:40:30:DICT_5X5_100").split(":")
-    cols, rows = map(int, size.split("x"))
-    img = cv2.imread(str(out), cv2.IMREAD_GRAYSCALE)
-    dictionary = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, name))
-    found = {}
-    for legacy in (False, True):
-        board = cv2.aruco.CharucoBoard((cols, rows), float(square) / 1e3, float(marker) / 1e3,
-                                       dictionary)
-        board.setLegacyPattern(legacy)
-        corners, ids, _, _ = cv2.aruco.CharucoDetector(board).detectBoard(img)
-        found[legacy] = (corners, ids)
-    corners, ids = found[False]
-    n = (cols - 1) * (rows - 1)
-    assert ids is not None and sorted(ids.ravel().tolist()) == list(range(n))
-    if rows % 2 == 0:
-        assert found[True][1] is None or len(found[True][1]) < n / 2
-    px = float(square) / 25.4 * float(dpi)                 # one square in pixels
-    h, w = img.shape
-    x0, y0 = (w - cols * px) / 2, (h - rows * px) / 2        # the board inside its margin
-    for k, c in zip(ids.ravel(), corners.reshape(-1, 2)):
-        expect = (x0 + (k % (cols - 1) + 1) * px, y0 + (k // (cols - 1) + 1) * px)
-        assert np.hypot(*(c - expect)) <= 2.0, (k, c, expect)   # 2% of a square at 100 dpi
 
 
 def test_table_takes_the_lens_from_another_file_with_calibration(tmp_path, capsys, rig):
