@@ -175,6 +175,19 @@ class StalledCamera:
         pass
 
 
+def _written_at_once(view: ProjectorView) -> None:
+    """Each snapshot written before the loop goes on: none skipped because the one before was
+    still being written (the saver thread, slow on a loaded machine)."""
+    save = view.snapshots.save
+
+    def save_and_wait(surface):
+        path = save(surface)
+        view.snapshots._saver.join()
+        return path
+
+    view.snapshots.save = save_and_wait
+
+
 def _snapshotting_loop(tmp_path, every_s: float) -> Loop:
     """A headless 320x200 view snapshotting every ``every_s`` s into tmp_path/snaps, fed by a
     stalled camera."""
@@ -184,6 +197,7 @@ def _snapshotting_loop(tmp_path, every_s: float) -> Loop:
                           "test", tmp_path)
     stats = LoopStats()
     view = ProjectorView((1.2, 0.8), cfg["view"], stats=stats, headless=True)
+    _written_at_once(view)
     return Loop(LiveInputs([StalledCamera()], LatestMeasurements()), [], [view], stats=stats)
 
 
@@ -272,6 +286,7 @@ def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_pa
                            "view": {"headless": True, "size": [1280, 720], "snapshot_every_s": 0.05,
                                     "snapshot_folder": "snaps"}}, "test", tmp_path)
     view = ProjectorView((1.2, 0.8), cfg["view"], stats=LoopStats(), headless=True)
+    _written_at_once(view)
     saved = []   # (the view as shown, the snapshot) at each snapshot
     save = view.snapshots.save
 
