@@ -74,6 +74,8 @@ class WindowedForward:
         # ``stay`` (states,) given: a group's, each member's own)
         self._stay = (dwell_states(bank, transitions.dwell) if stay is None
                       else np.ascontiguousarray(stay, dtype=float))
+        # step_windows' scratch: seven windows rounded up to whole vectors of eight states
+        self._scratch = np.empty((7, (self._w + 7) // 8 * 8))
         self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) \
             if k else np.zeros(0, bool)
         self.reset()
@@ -132,7 +134,7 @@ class WindowedForward:
                      self._a, self._b, self._s, self.lo, self.mean, self._mom, self.entries,
                      self._fresh, self.half_window, self._back, self._fwd,
                      self.transitions.restart, self.floor, self._const, self._ll,
-                     self._stay, self._dwells)
+                     self._stay, self._dwells, self._scratch)
         self.steps += 1
         self._fresh[:] = False
         return self._ll.copy()

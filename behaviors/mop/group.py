@@ -141,8 +141,11 @@ class FollowerGroup(GroupArrays, GroupRules):
             except (ValueError, TypeError):
                 stacked = None
         fits = stacked is not None and stacked.shape == X.shape
-        if fits and not self._off_paths(stacked) and group_steps.take_samples(
-                stacked, X, self._anchor, self._has_anchor, self._jump, self._jumped):
+        taken = 0   # (1: taken, each from the anchor it had, as _off_paths mapped them)
+        if fits and not self._off_paths(stacked):
+            taken = group_steps.take_samples(stacked, X, self._anchor, self._has_anchor,
+                                             self._jump, self._jumped)
+        if taken:
             present = self._everyone   # every sample finite, none a glitch, anchors taken
             np.greater(self._near2, self._on_limit2, out=self._strayed)
         else:   # a lost member (or a glitch) keeps its last sample
@@ -166,7 +169,7 @@ class FollowerGroup(GroupArrays, GroupRules):
                 fresh = present & ~self._has_anchor
                 self._anchor[fresh] = X[fresh]
                 self._has_anchor |= present
-        self._inputs(present)
+        self._inputs(present, mapped=taken == 1)
         fw = self.forward
         saved = None
         if lost:
@@ -220,11 +223,13 @@ class FollowerGroup(GroupArrays, GroupRules):
         mine[members] = True
         return mine[self._owner]
 
-    def _inputs(self, present: np.ndarray) -> None:
+    def _inputs(self, present: np.ndarray, mapped: bool = False) -> None:
         """:meth:`PerformanceFrame._inputs` of every member into the forward's input (K, width);
-        ``present`` (M,): the members with a sample."""
-        group_steps.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size,
-                                self._k_first, self._bounds, self._counts, self._z)
+        ``present`` (M,): the members with a sample; ``mapped``: :meth:`_off_paths` left them
+        there already (the same samples, anchors and sizes)."""
+        if not mapped:
+            group_steps.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size,
+                                   self._k_first, self._bounds, self._counts, self._z)
         for i in self._m_tangent:   # direction of motion: the member's own lag
             if not present[i]:
                 continue

@@ -24,6 +24,8 @@ MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "nu
                   "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
                   "rejudge_at", "keep", "reversal_move2", "coverage")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
+#: 4 ahead (DESIGN's tick, alternating processes, load 18-22): update_templates p10 731, 770 ->
+#: 691, 749 us, but the tick's median 1990 -> 2025 us in the second pair: not taken.
 AHEAD = 2
 MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
