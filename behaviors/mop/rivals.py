@@ -112,6 +112,17 @@ line on the square's first side (106, 3); and on 106 the crawl ankle on a wave's
 the dance ankle before it, followed back down its path (0.53 -> 0.24 while its performer went
 0.61 -> 0.905), ended there as a return (``gesture_end.RETURN_BACK``), so the wave's attempt was
 anchored four samples before the wave began, on the dance's last stroke.
+Measured and not kept: shared starts (:mod:`~behaviors.mop.sharing`) at 4 still radii instead of
+3 only against a template broader than the action by X nats a sample (the Jacobian at size 1: the
+circle over the spin 0.77, the getup wrist over the punch ankle 0.48, the square over the line
+0.35). X 0.45 (the spin held by the circle's start to 0.26 of it, the punch by the getup's to
+0.29): ``bench/follow_seeds.py --sections=sequences`` (101-112) runs 4, 5, 7, 2, 2, 4 -> 4, 2, 2,
+2, 2, 4 and 3, 6, 4, 4, 5, 4 -> 3, 2, 4, 4, 2, 4, but twenty within 20% on 102 0.281 -> 0.250 (a
+true punch from rest recognised at 0.197 -> 0.277, spins 0.270 -> 0.322) and valid after 30% at
+0.7-1.4x lower on every seed 101-106 (mean 0.9000 -> 0.8968). X 0.6 (the spin alone): runs 102 5
+-> 2 and 111 5 -> 2, every within-20% share unchanged, but ``bench/follow_quality.py`` valid after
+30% 0.9124 -> 0.9107 (tuned; held-out 106 0.8910 -> 0.8909): true spins wait for the circle's
+start as long.
 """
 
 from __future__ import annotations
