@@ -335,7 +335,8 @@ def stalls(began: float, peak: float, moved: bool, still: bool, performed: float
 #: (0.99 -> 0.58) and leapt 0.185 -> 0.304 (6.4 of its 55 states) in one sample, then was taken
 #: again at rest and held through the final rest, carried by the leap alone. A performer goes
 #: at most ~2 states a sample. ``bench/follow_seeds.py --sections=sized,unrelated,sequences``
-#: (seeds 101-112): 104's worst 0.1112 -> 0.0842; at 3 states also valid after 30% 101 0.9066
+#: (seeds 101-112): 104's worst 0.1112 -> 0.0842, the other figures identical; at 3 states
+#: also valid after 30% 101 0.9066
 #: -> 0.9062, 110 0.9066 -> 0.9032 (true takes whose state leapt while refused, then paused).
 LEAP_STATES = 5.0
 
