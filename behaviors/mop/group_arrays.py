@@ -93,6 +93,7 @@ class GroupArrays:
         self._drive_k = np.full(m, -1, dtype=np.intp)
         self._turning_arrays()
         self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
+        self._drive_leapt = np.zeros(m)   # (validity.leapt)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._x = np.zeros((m, dmax))
         self._one_dim = all(f.dim == dmax for f in fs)

@@ -29,7 +29,7 @@ from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, sti
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
-                                    LEAST_TEMPO, REST_BEHIND, TAKEN_PERFORMED)
+                                    LEAP_STATES, LEAST_TEMPO, REST_BEHIND, TAKEN_PERFORMED)
 from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
@@ -57,7 +57,8 @@ MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acq
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
                "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
-                 "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last")
+                 "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last",
+                 "_drive_leapt")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
@@ -237,6 +238,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     end_history_n, lagged = ints[16], m_flags[13]
     moving, kept, drive_from, drive_peak, peak = (m_floats[0], m_floats[2], m_floats[5],
                                                   m_floats[6], m_floats[7])
+    drive_leapt = m_floats[12]
     any_engaged, all_refused, leads, rest, committed = (m_flags[0], m_flags[1], m_flags[2],
                                                         m_flags[4], m_flags[5])
     has_end, turn_ok, drive_moved = m_flags[6], m_flags[7], m_flags[8]
@@ -281,6 +283,13 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb,
                 int(g) - start, shared, sh_off[i], refused, misshaped, progress, highest))))
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
+            last = progress[gb]   # (its followed state's last step)
+            if end_history_n[i] > 0 and peak_k[i] == bi:
+                last = end_history[i, end_history.shape[1] - 1]
+            step = (progress[gb] - last) * (length - 1.0)
+            # a leap taken while it did not drive carries no one (validity.leapt)
+            if acquired[i] != bi and step > LEAP_STATES:
+                drive_leapt[i] += step / (length - 1.0)
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
@@ -288,14 +297,10 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             ok = ok and not finished_short(drive_peak[i], progress[gb], crawl[i, 0] > 0)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             # (spared once performed TAKEN_PERFORMED since its attempt began, resting too)
-            last = progress[gb]
-            if end_history_n[i] > 0 and peak_k[i] == bi:
-                last = end_history[i, end_history.shape[1] - 1]
             ok = ok and not (rests and drive_moved[i]
-                             and drive_peak[i] - drive_from[i] < CARRY_FIRST
+                             and drive_peak[i] - (drive_from[i] + drive_leapt[i]) < CARRY_FIRST
                              and not (drive_from[i] - attempt_from[gb] >= TAKEN_PERFORMED
-                                      and abs(progress[gb] - last) * (length - 1.0)
-                                      < LEAST_TEMPO))
+                                      and abs(step) < LEAST_TEMPO))
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
         # a new best confirms on samples of its own (recognition: the run does not carry over)
@@ -311,6 +316,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             drive_k[i] = bi
             drive_from[i] = progress[gb]
             drive_peak[i] = progress[gb]
+            drive_leapt[i] = 0.0
             drive_moved[i] = False
         if val and not rests:
             drive_moved[i] = True

@@ -95,9 +95,9 @@ from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
-from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, resting,
-                                    rests_behind, stalls, still_unbegun, unbegun, unjudged,
-                                    unweighed)
+from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, leapt,
+                                    resting, rests_behind, stalls, still_unbegun, unbegun,
+                                    unjudged, unweighed)
 
 
 class Recognition:
@@ -268,6 +268,12 @@ class Recognition:
                                          and not self._shares(bi, float(g[bi]), progress)))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
+                # (its followed state's last step: the action's progress at the last sample)
+                last = (self._end_history[-1] if self._peak_k == bi and self._end_history
+                        else progress_list[bi])
+                step = (progress_list[bi] - last) * (b.lengths[bi] - 1.0)
+                # a leap taken while it did not drive carries no one (validity.leapt)
+                self._drive_leapt += leapt(self._acquired == bi, step) / (b.lengths[bi] - 1.0)
                 # an action that has not yet carried its performer forward does not drive
                 # them back behind where it began (validity.backs_first)
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
@@ -276,12 +282,10 @@ class Recognition:
                 ok = ok and not finished(self._drive_peak, progress_list[bi], self._crawl > 0)
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
-                # (its followed state's last step: the action's progress at the last sample)
-                last = (self._end_history[-1] if self._peak_k == bi and self._end_history
-                        else progress_list[bi])
-                ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests,
+                ok = ok and not stalls(self._drive_from + self._drive_leapt, self._drive_peak,
+                                       self._drive_moved, rests,
                                        self._drive_from - self._attempt_from[bi],
-                                       abs(progress_list[bi] - last) * (b.lengths[bi] - 1.0))
+                                       abs(step))
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
         # a new best confirms on samples of its own: the run of the one before does not carry
@@ -294,6 +298,7 @@ class Recognition:
         if valid and self._drive_k != bi:
             self._drive_k = bi
             self._drive_from = self._drive_peak = progress_list[bi]
+            self._drive_leapt = 0.0
             self._drive_moved = False
         if valid and not rests:
             self._drive_moved = True

@@ -30,6 +30,12 @@ stroke (held-out seed 109, six templates, 0.7/1/1.4x: 0.125/0.151/0.071 valid). 
 (102 0.0814 -> 0.0491), but valid after 30% at 0.7-1.4x lower on every seed (0.9022 / 0.8858 /
 0.9057 / 0.8990 / 0.8903 / 0.8849 -> 0.8991 / 0.8851 / 0.9017 / 0.8897 / 0.8857 / 0.8785), tuned
 0.9124 -> 0.9122; twenty back to back within 20% 101 0.344 -> 0.313, 102 0.281 -> 0.250.
+Nor only from 0.1 before that bend up to it (past the bend the followed state itself shows the
+template's shape; no wait for the input's turn): the diagonal on the eight 0 valid on every draw
+(tuned seeds 5-11 x 3 sizes, 0-10 before), 109's worst 0.1154 -> 0.0912, 101-106 unrelated mean
+0.0980 -> 0.0894, but valid after 30% 0.9000 -> 0.8980 (103 0.9129 -> 0.9102, 104 0.9028 ->
+0.8940, 102 and 105 lower too), twenty back to back within 20% 101-103 lower by 0.03 each: the
+cost is the window before the bend itself, where true performances are taken.
 """
 
 from __future__ import annotations

