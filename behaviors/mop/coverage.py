@@ -48,7 +48,7 @@ after 0.102; 5%: 0.059, 0.160 (told 0.083), 0.110; no coverage and ``confirm`` 1
 0.201), 0.133; valid after 30% of gestures at 0.7-1.4x unchanged (0.915) at 6% and 5%. None is
 kept: at each the unrelated worst passes 0.10 (the figure eight taken sooner on the diagonal) and
 so does the after-a-gesture figure without the diagonal's eight. Coverage at 4% of the path instead
-of 8% (with the tempo rule, :func:`behaviors.mop.validity.slow_take`): the zigzag and the figure
+of 8% (with the tempo rule, :func:`behaviors.mop.tempo.slow_take`): the zigzag and the figure
 eight at 0.21 / 0.19 (tuned / held-out), within 20% 0 -> 0.03 / 0.22 of the six gestures back to
 back, but unrelated motions mean 0.085 -> 0.110 / 0.098 -> 0.122 (worst 0.305 -> 0.375); 5%: 0.106
 / 0.118; 4% with the turning rule (``turn_limit`` 1.3): 0.103 / 0.108, valid after 30% of gestures

@@ -240,7 +240,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._recent_x: list[np.ndarray] = []
         self._tempo_past: list[tuple[np.ndarray, np.ndarray]] = []   # (mean, x) per sample
         self._overran_k = -1   # the template that overran at the last sample (overrun.overruns)
-        self._crawl, self._crawl_k = 0, -1   # samples in a row best crawled (validity.crawls)
+        self._crawl, self._crawl_k = 0, -1   # samples in a row best crawled (tempo.crawls)
         self._lag: list[np.ndarray] = []
         self._ended = -1
         self._last_x: np.ndarray | None = None   # the last sample followed (_glitch)

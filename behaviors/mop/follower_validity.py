@@ -1,5 +1,5 @@
 """The follower's memory for its validity rules (:mod:`behaviors.mop.validity`): the followed
-states, samples and sizes of the last :data:`~behaviors.mop.validity.TEMPO_SAMPLES`, and the
+states, samples and sizes of the last :data:`~behaviors.mop.tempo.TEMPO_SAMPLES`, and the
 two rules read from them, the tempo of a new action and the input running on past a template's
 path while its progress lags (:mod:`behaviors.mop.overrun`). A follower group applies the same
 rules to its members, compiled, in :mod:`behaviors.mop.member_validity`.
@@ -11,33 +11,33 @@ import math
 
 import numpy as np
 
-from behaviors.mop import overrun, validity
+from behaviors.mop import overrun, tempo
 
 
 class Validity:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: the tempo of a new action
-    (:func:`~behaviors.mop.validity.slow_take`) and the overrun of its path."""
+    (:func:`~behaviors.mop.tempo.slow_take`) and the overrun of its path."""
 
     def _slow_take(self, k: int, g: np.ndarray, x: np.ndarray) -> tuple[bool, bool]:
         """Template ``k`` (followed states ``g``, bank index) is taken too slowly by sample ``x``
-        (:func:`~behaviors.mop.validity.slow_take`) against the oldest of the last
-        :data:`~behaviors.mop.validity.TEMPO_SAMPLES` samples; and whether the input hovers
-        meanwhile (:func:`~behaviors.mop.validity.crawl_run`; not yet whether ``k`` drove)."""
-        if validity.LEAST_TEMPO <= 0 or len(self._tempo_past) < validity.TEMPO_SAMPLES:
+        (:func:`~behaviors.mop.tempo.slow_take`) against the oldest of the last
+        :data:`~behaviors.mop.tempo.TEMPO_SAMPLES` samples; and whether the input hovers
+        meanwhile (:func:`~behaviors.mop.tempo.crawl_run`; not yet whether ``k`` drove)."""
+        if tempo.LEAST_TEMPO <= 0 or len(self._tempo_past) < tempo.TEMPO_SAMPLES:
             return False, False
         then, x0, _ = self._tempo_past[0]
         r = (x - x0) / (self.bank.scale[k] * self._size[k])
         moved = math.sqrt(float(np.mean(r * r)))
         advance = float(g[k] - self.bank.starts[k] - then[k])
         onset = self.onset * self.sigma
-        hovers = moved < onset and abs(advance) < validity.LEAST_TEMPO * validity.TEMPO_SAMPLES
-        return validity.slow_take(advance, moved, onset), hovers
+        hovers = moved < onset and abs(advance) < tempo.LEAST_TEMPO * tempo.TEMPO_SAMPLES
+        return tempo.slow_take(advance, moved, onset), hovers
 
     def _remember_tempo(self, states: np.ndarray, x: np.ndarray) -> None:
         """Keep the followed ``states`` (K,), sample ``x`` and sizes of the last
-        :data:`~behaviors.mop.validity.TEMPO_SAMPLES`."""
+        :data:`~behaviors.mop.tempo.TEMPO_SAMPLES`."""
         self._tempo_past.append((states, x, self._size.copy()))
-        if len(self._tempo_past) > validity.TEMPO_SAMPLES:
+        if len(self._tempo_past) > tempo.TEMPO_SAMPLES:
             del self._tempo_past[0]
 
     def _overruns(self, k: int, g: np.ndarray, x: np.ndarray) -> bool:

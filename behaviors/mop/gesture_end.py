@@ -66,7 +66,7 @@ of the template's last point (at the estimated size): also runs of at most two, 
 lies within that radius, several samples early); the last point instead of the sample before
 as the place the input stopped in: the same runs, and on the sized subset of
 ``tests/mop/test_quality.py`` one tick less of a figure eight. The grace counted from where the
-performer came to rest (:func:`~behaviors.mop.validity.resting`) with the action followed
+performer came to rest (:func:`~behaviors.mop.tempo.resting`) with the action followed
 inside its end hold (a compressed hold in the last 10% of its progress: a kick ankle's at
 0.89-0.96, the wave's, the circle's): among twenty templates back to back (seeds 201-210 of
 ``bench/follow_quality.evaluate``, 80 sequences) ended actions' runs over two ticks 6 -> 5, the

@@ -203,7 +203,7 @@ class GroupArrays:
         self._m_flags = np.empty((len(members.MEMBER_FLAGS), m), dtype=bool)
         self._m_likely, self._m_likely_v = np.empty((m, 3), dtype=np.intp), np.empty((m, 3, 2))
         self._m_restart = np.empty(m, dtype=np.intp)
-        self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
+        self._m_rest = np.zeros(m, dtype=bool)   # resting (tempo.resting): once per tick
         self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
         self._reversal_tol = np.concatenate([f._reversal_tol for f in fs])
         self._probe_floor2 = np.concatenate([np.full(len(f.names), f._probe_floor2) for f in fs])

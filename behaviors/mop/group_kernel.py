@@ -24,7 +24,7 @@ import numpy as np
 import behaviors.mop.compiled
 from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
                            members, path_kernel, reversal, rivals, shape_lead, size_probe,
-                           spotting, threshold, threshold_kernel, validity)
+                           spotting, tempo, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -47,7 +47,7 @@ from behaviors.kernel_cache import compiled
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
                invariance, members, path_kernel, reversal, rivals, shape_lead, size_probe,
-               spotting, threshold, threshold_kernel, validity)
+               spotting, tempo, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]

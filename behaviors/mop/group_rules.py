@@ -5,14 +5,14 @@ Mixin of :class:`~behaviors.mop.group.FollowerGroup`: where :func:`members.concl
 a member's new attempt starts, :meth:`GestureSpotting._restart_here` for all of them at once;
 the rules themselves are those of :mod:`behaviors.mop.spotting`. Before it, each member's
 turning (:mod:`behaviors.mop.turning`); the arrays of the tempo
-(:func:`behaviors.mop.validity.slow_take`), which :func:`members.conclude` applies first.
+(:func:`behaviors.mop.tempo.slow_take`), which :func:`members.conclude` applies first.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import member_validity, members, threshold, under_way, validity
+from behaviors.mop import member_validity, members, tempo, threshold, under_way
 from behaviors.mop.group_layout import FLAGS, FLOATS
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
@@ -45,13 +45,13 @@ class GroupRules:
         """The last samples and followed states of members that spot
         (:meth:`Validity._slow_take`)."""
         fs, m, dmax = self.followers, len(self.followers), self._rel.shape[1]
-        w = validity.TEMPO_SAMPLES
+        w = tempo.TEMPO_SAMPLES
         self._tempo_on = np.array([f.invariance != "none" for f in fs], dtype=bool)
         self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
         self._tempo_s = np.ones((w, len(self._owner)))   # ... and the sizes (overrun.GROWN)
         self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
         self._overran_k = np.full(m, -1, dtype=np.intp)   # (overrun.overruns' held)
-        self._crawl = np.zeros((m, 2), dtype=np.intp)   # validity.crawls: run, best
+        self._crawl = np.zeros((m, 2), dtype=np.intp)   # tempo.crawls: run, best
 
     def _turned(self, present: np.ndarray) -> None:
         """Each present member's turning since its gesture began, and whether it fits its best

@@ -54,7 +54,7 @@ from behaviors.kernel_cache import compiled
 #: followed progress then slid back :data:`FINISH_BACK` from there has ended (:func:`finished`).
 FINISH_FROM = 0.9
 FINISH_BACK = 0.03
-#: ... or that is followed at a crawl there (:func:`~behaviors.mop.validity.slow_take`) while
+#: ... or that is followed at a crawl there (:func:`~behaviors.mop.tempo.slow_take`) while
 #: its performer moves on (:func:`finished`).
 FINISH_CRAWLS = True
 
@@ -122,7 +122,7 @@ def finished(peak: float, progress: float, crawls: bool = False) -> bool:
     (tuned / held-out) and twenty templates' longest wrong run 2 -> 8 tuned: true performances
     ended early (which ones and why not traced).
 
-    Or followed at a crawl there (``crawls``: :func:`~behaviors.mop.validity.slow_take` true
+    Or followed at a crawl there (``crawls``: :func:`~behaviors.mop.tempo.slow_take` true
     for it this sample, :data:`FINISH_CRAWLS`): its state all but stopped while the input moved
     on by the onset. A dance at 0.80x, lagged to 0.93, crept 0.93 -> 0.94 as the punch after it
     began (never sliding back) and drove its first 7 samples, until it had crawled

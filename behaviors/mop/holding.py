@@ -8,7 +8,7 @@ A performer holding an action rests where its template holds (a compressed hold,
   whose size the follower overestimated during the raise (1.05, lagging a fast rise) was
   followed as a stop short of the top of the rise at 1x, not as the hold at 0.89x; the
   follower stayed at 0.30-0.36 while the performer held (the hold spans 0.38-0.62). When the
-  performer rests (:func:`~behaviors.mop.validity.resting`, over the samples before this one)
+  performer rests (:func:`~behaviors.mop.tempo.resting`, over the samples before this one)
   within :data:`HOLD_AHEAD` states before a hold inside the template, and the input lies on
   that hold's place at a smaller size within the size range (every column within
   :data:`SNAP_RADII` still radii), the size becomes that one (:func:`hold_size`): templates
@@ -46,13 +46,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from behaviors.mop import invariance, reversal, validity
+from behaviors.mop import invariance, reversal, tempo
 from behaviors.mop.hmm import TemplateBank, inner_holds
 from behaviors.mop.reversal import fitted_size
-from behaviors.mop.validity import RESTING_RADII
+from behaviors.mop.tempo import RESTING_RADII
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (invariance, reversal, validity)   # the files whose constants or kernels they take in
+_CALLS_INTO = (invariance, reversal, tempo)   # the files whose constants or kernels they take in
 
 #: States before a hold inside a template from which a resting performer may be holding it.
 #: Along a straight stroke to a hold the size stays near 1 (size and progress are one there),
@@ -142,7 +142,7 @@ def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray,
                         numba.float64[::1], numba.intp), *_CALLS_INTO)
 def resting_with(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, radius: np.ndarray,
                  keep: int) -> bool:
-    """:func:`behaviors.mop.validity.resting` of a group member ``i``'s buffered samples
+    """:func:`behaviors.mop.tempo.resting` of a group member ``i``'s buffered samples
     (``buf`` (M, S, D), its last ``count[i]`` rows) before they take this sample ``x[i]``: over
     their last ``keep - 1`` (the member's ``still_samples``; S is the group's largest) and this
     one, as the follower reads its recent samples and this one."""

@@ -5,7 +5,7 @@ What :meth:`~behaviors.mop.group_rules.GroupRules._turned` and
 apply to every member: the gesture's last samples and whether a new action fits them
 (:mod:`behaviors.mop.shape_lead`), the input's turning against its best template's
 (:mod:`behaviors.mop.turning`), the tempo at which a new action is taken and the crawling run
-(:func:`behaviors.mop.validity.slow_take`, :func:`~behaviors.mop.validity.crawls`), and a way
+(:func:`behaviors.mop.tempo.slow_take`, :func:`tempo.crawls`), and a way
 back to an abandonment's anchor (:func:`behaviors.mop.validity.unbegun`). Arrays as in
 :mod:`behaviors.mop.members`; each function states the follower method it equals.
 """
@@ -18,15 +18,16 @@ import numba
 import numpy as np
 
 from behaviors.mop import handover, overrun, path_kernel, shape_lead, take_fit, validity
+from behaviors.mop import tempo as tempo_rules   # (its function tempo is this module's)
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
 from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
-from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
+from behaviors.mop.tempo import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (path_kernel's through
 # overrun's)
-_CALLS_INTO = (handover, overrun, path_kernel, shape_lead, take_fit, validity)
+_CALLS_INTO = (handover, overrun, path_kernel, shape_lead, take_fit, tempo_rules, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -173,11 +174,11 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
           leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray) -> None:
     """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
     :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
-    (:func:`validity.slow_take`: followed state, ``mean`` clipped to the template, against the
+    (:func:`tempo.slow_take`: followed state, ``mean`` clipped to the template, against the
     oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
     ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``), and
-    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`;
-    kept while the input hovers as :func:`validity.crawl_run` says, ``drive_k``: the action
+    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`tempo.crawls`;
+    kept while the input hovers as :func:`tempo.crawl_run` says, ``drive_k``: the action
     that last drove);
     then this sample, the followed states and sizes (``past_s``) are kept in the ring's slot
     ``at``, which moves on."""
@@ -204,7 +205,7 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
         if slow:
             crawl[i, 0] = crawl[i, 0] + 1 if same else 1
         elif not (same and hovers and CRAWL_HOVERS and 0 < CRAWL_SAMPLES <= crawl[i, 0]):
-            crawl[i, 0] = 0   # validity.crawl_run
+            crawl[i, 0] = 0   # tempo.crawl_run
         crawl[i, 1] = best[i]
         for c in range(x.shape[1]):
             past_x[a, i, c] = x[i, c]

@@ -21,21 +21,22 @@ import numba
 import numpy as np
 
 from behaviors.mop import (gesture_end, handover, member_buffer, member_validity, overrun,
-                           path_kernel, shape_lead, spotting, take_fit, validity)
+                           path_kernel, shape_lead, spotting, take_fit, tempo, validity)
 from behaviors.mop.gesture_end import END_GRACE, MOVE_RADII, RETURN_BACK, RETURN_RADIUS
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import SHARE_BACK
-from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
-                                    LEAP_STATES, LEAST_TEMPO, REST_BEHIND, TAKEN_PERFORMED)
+from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
+from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
+                                    REST_BEHIND, TAKEN_PERFORMED)
 from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
 # and take_fit's through member_validity's)
 _CALLS_INTO = (gesture_end, handover, member_buffer, member_validity, overrun, path_kernel,
-               shape_lead, spotting, take_fit, validity)
+               shape_lead, spotting, take_fit, tempo, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -184,7 +185,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     ``mean``, ``mom``: the forward's; ``flags``: the group's flag rows (refused, engaged,
     misshaped, covered first); ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
-    each rests (:func:`~behaviors.mop.validity.resting` over the samples the push keeps,
+    each rests (:func:`~behaviors.mop.tempo.resting` over the samples the push keeps,
     measured once by the per-template pass; a member without a sample is put back after the
     tick); ``crawl``: each member's crawling run and its best, as
     :func:`~behaviors.mop.member_validity.tempo` left them;
@@ -269,7 +270,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         if present[i]:
             push(buf, nbuf, x, i, int(m[6]))
         st = still(buf, nbuf, i, int(m[6]), radius)
-        rests = rest[i]   # validity.resting, the holds' flag (group_kernel.update_templates)
+        rests = rest[i]   # tempo.resting, the holds' flag (group_kernel.update_templates)
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and (p[gb] * kept[i] >= m[1] or committed[i]) and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does

@@ -95,9 +95,9 @@ from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
-from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, leapt,
-                                    resting, rests_behind, stalls, still_unbegun, unbegun,
-                                    unjudged, unweighed)
+from behaviors.mop.tempo import crawl_run, crawls, resting
+from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
+                                    still_unbegun, unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -198,7 +198,7 @@ class Recognition:
         them for all its followers at once): best, validity, the state and spotting. ``top``:
         the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p`` and
         ``mean_ll`` as lists (for the state's dictionaries); ``rests``: the performer
-        rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
+        rests (:func:`~behaviors.mop.tempo.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
         # best is chosen on the evidence, the narrow templates' Jacobian included. Measured and
@@ -246,8 +246,8 @@ class Recognition:
             leads = self._leads(bi, p * self._kept, progress)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
-            # ... and once it is not taken at a crawl (validity.slow_take); nor does any action
-            # drive once it crawled so for CRAWL_SAMPLES samples in a row (validity.crawls)
+            # ... and once it is not taken at a crawl (tempo.slow_take); nor does any action
+            # drive once it crawled so for CRAWL_SAMPLES samples in a row (tempo.crawls)
             slow, hovers = self._slow_take(bi, g, x)
             # ... and it is not shown valid while the input overruns its path (overrun.overruns;
             # the rules go on as if it were)

@@ -128,7 +128,7 @@ before: valid after 30% 0.9005 / 0.9014, unrelated worst 0.258 / 0.414, mean 0.0
 the held-out told worst 0.239 -> 0.253, and the prior alone lets the bird's wave take zigzags at
 0.8x (``tests/mop/test_live.py``: valid at 0.52-0.92 of the wave for 27 samples, 2 of 17 other
 gestures at 60%, 0 before); ``turn_limit`` 1.6: mean 0.0540, diagonal unchanged, 0.9004 /
-0.8928; :data:`~behaviors.mop.validity.CRAWL_SAMPLES` 5: 0.0578 / 0.0640, 0.9003 / 0.8993;
+0.8928; :data:`~behaviors.mop.tempo.CRAWL_SAMPLES` 5: 0.0578 / 0.0640, 0.9003 / 0.8993;
 :data:`~behaviors.mop.invariance.REJUDGE` 1.25: 0.0573 / 0.0655, 0.9023 / 0.9072, but on
 ``tests/mop/test_refusal.py``'s own draws a mirrored line's rest 28 -> 60 valid samples and a
 wander 101 -> 153 (1.3: mean 0.0639); ``PATH_REACH`` (2, 2): 0.0577 / 0.0657, 0.8987 / 0.9000;

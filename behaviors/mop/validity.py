@@ -1,7 +1,8 @@
 """When a followed template may drive its character: the rules on the course of an action
-(not back before forward, carried before it holds, tempo, crawling, resting behind, not judged
-at rest, not weighed in a pause, not begun at a turn) and what was tried beside them. Refusal,
-path misfit and coverage: :mod:`behaviors.mop.refusal`; the input's turning:
+(not back before forward, carried before it holds, resting behind, not judged at rest, not
+weighed in a pause, not begun at a turn) and what was tried beside them. The performer's tempo
+(taken at tempo, crawling, kept through hovering) and when they rest: :mod:`behaviors.mop.tempo`.
+Refusal, path misfit and coverage: :mod:`behaviors.mop.refusal`; the input's turning:
 :mod:`behaviors.mop.turning`; the samples a follower keeps for the tempo and the overrun:
 :mod:`behaviors.mop.follower_validity`.
 
@@ -24,8 +25,8 @@ samples later, one step further back): tuned 0.415 / 0.151 only.
 
 Carried forward before it holds (:func:`stalls`): an action that drove while the performer
 moved, without its progress passing where it began driving by :data:`CARRY_FIRST`, stops
-driving once the performer rests (:func:`resting`: the net motion of the last samples within
-:data:`RESTING_RADII` still radii), and drives again when they move on. The input moved it on
+driving once the performer rests (:func:`tempo.resting`: the net motion of the last samples within
+:data:`tempo.RESTING_RADII` still radii), and drives again when they move on. The input moved it on
 the spot, so nothing specific to it was seen: a wander hovering at the circle's start (the
 circle taken at 0.23, still there 47 samples later), a diagonal stopped on the circle's chord or
 on the figure eight's first stroke, the triangle's stroke stopped in the square's first side.
@@ -61,7 +62,7 @@ as its performer stopped, flashed valid one sample in 3-4 through the pause. Ref
 action driving last is taken again at rest (no flash): 104 the same, mean 0.8864 (103 0.9018,
 104 0.8841, 105 0.8810), ``bench/follow_quality.py`` identical, but ``tests/mop`` failed 4: a
 0.85x crawl wrist paused 0.6 s (reversal sizes off) 0.93 -> 0.66, and the measured gains of
-:func:`stalls`, :func:`slow_take` and :func:`crawl_run` fell under their limits. With
+:func:`stalls`, :func:`tempo.slow_take` and :func:`tempo.crawl_run` fell under their limits. With
 :mod:`behaviors.mop.overrun`'s run-on after a stop as well, the worst over the seeds fell 0.1173
 -> 0.1080 (105's diagonal). Not kept: a wander's final rest and a performer's pause right after
 a strained take look alike when the rest begins. Nor is the carry counted only over the samples
@@ -85,90 +86,30 @@ valid after 30% 0.8858 / 0.8903 -> 0.8853 / 0.8884 (a 1x wave, on track, off for
 after its take, paused at 0.335 with 0.041 counted: 0.981 -> 0.796).
 
 Performed before it drove (:data:`TAKEN_PERFORMED`): an action taken 0.3 or more of its progress
-from where its current attempt began (0 after spotting's restart; where it last re-entered its
-first states) is spared the carry while its followed state rests too (it moved fewer than
-:data:`LEAST_TEMPO` states over the last sample). A gesture recognised late (1.2-1.4x: taken at
-0.33-0.57) and paused within a few samples was refused through the whole pause (a 1.2x circle taken
-at 0.43, 24 of 55 samples); the actions the carry refuses on unrelated motions were taken at
+from where its current attempt began (0 after spotting's restart; where it last re-entered its first
+states) is spared the carry while its followed state rests too (it moved fewer than
+:data:`tempo.LEAST_TEMPO` states over the last sample). A gesture recognised late (1.2-1.4x: taken
+at 0.33-0.57) and paused within a few samples was refused through the whole pause (a 1.2x circle
+taken at 0.43, 24 of 55 samples); the actions the carry refuses on unrelated motions were taken at
 0.06-0.28 (a wander hovering at the circle's start at 0.23-0.25, the zigzag at 0.16-0.28, the punch
-ankle at 0.21; held-out seeds 102, 106, 108), two more at a template's end (0.90, 0.99).
-Counted from the template's start instead (0.3): ``bench/follow_seeds.py --sections=sized``
-(valid after 30% at 0.7-1.4x) seeds 101-106 .9022 / .8858 / .9057 / .8990 / .8903 / .8849 -> .9069
-/ .8933 / .9129 / .9028 / .8937 / .8910 (mean .8946 -> .9001), 107-112 .8821 / .8768 / .8819 /
-.8943 / .8912 / .8820 -> .8919 / .8866 / .8944 / .9066 / .8986 / .8950 (mean .8847 -> .8955); but
-twenty templates back to back, seed 109's longest wrong run 4 -> 14: a punch ankle re-entered its
-first states at 0.316 (its first-states window reaches that far) as the next gesture began slowly,
-taken there at once and held through the near rest; counted from that re-entry it is 4 again. Both
-cost held-out after a gesture (``bench/follow_quality.py``) .05835 -> .05843: a line taken at its
-turn (0.507) on a triangle's first corner, where the input slowed into the corner (read as a rest
-for a sample while the line's state still advanced 0.5 states a sample); counted from the
-re-entry, ``--sections=sized,unrelated,sequences`` seeds 101-106 also unrelated told worst on 103
-.0540 -> .0571. Kept, with the followed state resting too: seeds 101-106 .9066 / .8933 / .9129 /
-.9028 / .8937 / .8910 (mean .8946 -> .9000), 107-112 .8919 / .8828 / .8938 / .9066 / .8963 / .8950
-(mean .8847 -> .8944), every other figure of those sections identical (109's run 4);
+ankle at 0.21; held-out seeds 102, 106, 108), two more at a template's end (0.90, 0.99). Counted
+from the template's start instead (0.3): ``bench/follow_seeds.py --sections=sized`` (valid after 30%
+at 0.7-1.4x) seeds 101-106 .9022 / .8858 / .9057 / .8990 / .8903 / .8849 -> .9069 / .8933 / .9129 /
+.9028 / .8937 / .8910 (mean .8946 -> .9001), 107-112 .8821 / .8768 / .8819 / .8943 / .8912 / .8820
+-> .8919 / .8866 / .8944 / .9066 / .8986 / .8950 (mean .8847 -> .8955); but twenty templates back to
+back, seed 109's longest wrong run 4 -> 14: a punch ankle re-entered its first states at 0.316 (its
+first-states window reaches that far) as the next gesture began slowly, taken there at once and held
+through the near rest; counted from that re-entry it is 4 again. Both cost held-out after a gesture
+(``bench/follow_quality.py``) .05835 -> .05843: a line taken at its turn (0.507) on a triangle's
+first corner, where the input slowed into the corner (read as a rest for a sample while the line's
+state still advanced 0.5 states a sample); counted from the re-entry,
+``--sections=sized,unrelated,sequences`` seeds 101-106 also unrelated told worst on 103 .0540 ->
+.0571. Kept, with the followed state resting too: seeds 101-106 .9066 / .8933 / .9129 / .9028 /
+.8937 / .8910 (mean .8946 -> .9000), 107-112 .8919 / .8828 / .8938 / .9066 / .8963 / .8950 (mean
+.8847 -> .8944), every other figure of those sections identical (109's run 4);
 ``bench/follow_quality.py``: tuned sized .9124 and after a gesture .05835 unchanged, pauses valid
-.9551 -> .9678, held through .9275 -> .9420, held-out sized .9022 -> .9066, 0.6/1.5x .7001 ->
-.7294, pauses .9436 -> .9501, aspect 1.1 .8896 -> .8913, bent 5% .7450 -> .7461; the rest equal.
-
-Tempo (:func:`slow_take`): a new action is taken only if, over the last :data:`TEMPO_SAMPLES`
-samples, its followed state moved at least :data:`LEAST_TEMPO` states per sample (either way),
-or the input moved less than the onset (in the template's spread at its size) meanwhile. Much of
-unrelated motion's residue is a template stretched over the input: its followed state crawls (a
-diagonal held in the figure eight's first turn, 0.22 -> 0.28 over 26 samples) while the input
-sweeps on; a performer goes at 0.5-2x the recorded tempo (the bench 0.6-1.6x). Judged at the
-take only: a taken action keeps driving at any tempo (pauses, holds, a slow end). Measured with
-``bench/follow_quality.py --sections=sized,unrelated`` (tuned; held-out in brackets; unrelated
-worst / mean, valid after 30% of gestures at 0.7-1.4x): before 0.305 / 0.105, 0.9021 (0.572 /
-0.122, 0.9115); kept (10 samples, 0.3) 0.305 / 0.085, 0.9016 (0.515 / 0.098, 0.9112): triangle
-with twenty templates 0.30 -> 0.13, diagonal 0.18 -> 0.06, held-out wander 0.30 -> 0.15; holds
-and gestures back to back unchanged to the digit. 15 samples: 0.305 / 0.085, 0.9016 (0.468 /
-0.095, 0.9110), but among twenty templates back to back recognised within 20% 0.344 -> 0.281
-(0.313 -> 0.281). Signed (a state going back never taken): 0.305 / 0.083, 0.9016 (0.511 / 0.097,
-0.9112), but a line's return followed backwards (size overestimated) is not taken again after a
-pause at its turn, so its end (:meth:`GestureSpotting._returned`) is never seen and it drives
-the next gesture's first samples (``tests/mop/test_quality.py``, 4 samples). At 0.4 signed:
-0.305 / 0.076, 0.8994 (0.472 / 0.091, 0.9108); 0.5: 0.305 / 0.070, 0.8958 (0.472 / 0.087,
-0.9073), unsigned 0.8992 (0.9073): the sized cost is mostly that 0.7x line's return, valid off
-track (valid 0.70 -> 0.17, on track 0.07 both). An upper tempo (2x) refused no unrelated take.
-What is left is taken at a performer's tempo: the mirrored line's return is the line's outward
-stroke, then rests at its turn (a line paused there); a triangle's base is the square's first
-side. Measured and not kept: a second, shorter window beside :data:`TEMPO_SAMPLES` (slow also
-over the last 4 samples; tuned joints, seeds 201-210, ``bench/follow_widened.py``; the tuned
-``after`` performances; ``bench/follow_quality.py --sections=sized,holds``): 0.3 states per
-sample: mirrored paths among twenty worst 0.239 unchanged, mean 0.0145 -> 0.0121, over 0.1 22 ->
-19 of 540, twenty back to back runs over 2 samples 14 -> 13; after a gesture mean 0.0730 ->
-0.0677, worst 0.198 unchanged; valid after 30% at 0.7-1.4x 0.9157 -> 0.9150, 0.6 / 1.5x and
-holds unchanged: the worst are taken at tempo. 0.15: mean 0.0142, after 0.0722. Over the last 2
-samples at 0.3: the zigzag on seed 208's mirrored dance wrist (taken at its corner, its state
-parked there while the input went on) was held until the input's reversal sized it afresh
-(1.06 -> 1.36), and drove more: worst 0.239 -> 0.268.
-
-Crawling (:func:`crawls`): an action, taken or not, stops driving once the tempo test above
-found it crawling :data:`CRAWL_SAMPLES` samples in a row; it is then taken again only at tempo.
-Taken at tempo, a template's stretch still crawls once the input leaves what it explains (a
-diagonal held at the circle's 0.38 along its chord). ``bench/follow_quality.py
---sections=sized,holds,unrelated`` (tuned; held-out in brackets; unrelated worst / mean, valid
-after 30% at 0.7-1.4x): before 0.305 / 0.0846, 0.9016 (0.515 / 0.0977, 0.9112); kept (6) 0.305
-/ 0.0803, 0.9016 (0.488 / 0.0925, 0.9025), holds unchanged: the held-out loss is mostly valid
-*off track* (a 0.85x punch ankle 0.97 -> 0.63, on track 0.28 both), beside a 1.4x line (on
-track 0.49 -> 0.39). 4: 0.294 / 0.0773, 0.8997 (0.473 / 0.0887, 0.8992); 5: 0.305 / 0.0794,
-0.9014 (0.480 / 0.0907, 0.9009); 8: 0.305 / 0.0822, 0.9016 (0.504 / 0.0948, 0.9063); 10:
-0.305 / 0.0833 (0.515 / 0.0963, 0.9081). Back to back unchanged but for twenty templates
-(never recognised 0.031 -> 0). Most gained: a diagonal, six templates 0.165 -> 0.088; held-out
-diagonal with twenty 0.293 -> 0.183, wander 0.186 -> 0.117.
-
-Kept through hovering (:func:`crawl_run`): an action stopped for crawling stays stopped while
-the input hovers (moves less than the onset over :data:`TEMPO_SAMPLES` while the action is not
-followed at tempo either) unless it drove since the attempt began; it is taken again only at
-tempo. Reset there, a wander that slowed down retook the wave it had crawled in (its state
-still at 0.278) for 17 samples. ``bench/follow_quality.py --sections=sized,holds,sequences,
-unrelated`` (tuned / held-out): unrelated mean 0.0547 -> 0.0514 / 0.0706 -> 0.0654 (wander,
-six templates 0.143 -> 0.101; held-out mirrored kick wrist, twenty, 0.121 -> below 0.1), worst
-unchanged; valid after 30% (on track too), holds and back to back unchanged to the digit.
-Not kept: kept for any action (0.0506 / 0.0654, but held-out valid after 30% 0.9008 ->
-0.8956: a 0.7x punch ankle paused after it drove, followed 0.27 off, 0.93 -> 0.44 valid, on
-track 0.254 both); for any action but one carried forward by :data:`CARRY_FIRST`: 0.0540 /
-0.0706; not through a rest (:func:`resting`): 0.0542 / 0.0692 (a slow wander reads as resting).
+.9551 -> .9678, held through .9275 -> .9420, held-out sized .9022 -> .9066, 0.6/1.5x .7001 -> .7294,
+pauses .9436 -> .9501, aspect 1.1 .8896 -> .8913, bent 5% .7450 -> .7461; the rest equal.
 
 Resting behind where it began (:func:`rests_behind`): an action does not hold a performer
 resting :data:`REST_BEHIND` behind where it began driving (back within what had not yet told
@@ -186,7 +127,7 @@ to 0.27 and back to 0.09, stops at 0.11; mirrored paths valid over 0.1 of the ti
 action over 2 samples 14 -> 15 of 80: a line's return followed backwards stops, its end is not
 seen, and the walk drives the roll after it 3 samples.
 
-Not judged at rest (:data:`UNJUDGED_AT_REST`): while the performer rests (:func:`resting`),
+Not judged at rest (:data:`UNJUDGED_AT_REST`): while the performer rests (:func:`tempo.resting`),
 every template's recent likelihood (refusal) and path misfit stay as they were. A still input
 tells nothing new about the path: a pause refused gestures as the transitions' prior moved on
 past the rest, and a refused stretch of unrelated motion was accepted again while its still
@@ -288,6 +229,7 @@ import math
 import numpy as np
 
 from behaviors.mop.path_kernel import PATH_REACH   # (the path the input is measured against)
+from behaviors.mop.tempo import LEAST_TEMPO
 
 #: An action that drives has carried its performer forward once its progress passed where it
 #: began driving by this much (progress units).
@@ -323,7 +265,7 @@ def stalls(began: float, peak: float, moved: bool, still: bool, performed: float
     at a template's start, a chord stopped part way): no evidence specific to it. Spared when
     it was ``performed`` :data:`TAKEN_PERFORMED` along its path (progress at the take minus its
     progress where its current attempt began) before it drove, while its followed state rests
-    too: it moved ``advance`` states over the last sample, fewer than :data:`LEAST_TEMPO`.
+    too: it moved ``advance`` states over the last sample, fewer than :data:`tempo.LEAST_TEMPO`.
     ``began`` counts what it leapt while it did not drive (:func:`leapt`) as not carried."""
     spared = performed >= TAKEN_PERFORMED and advance < LEAST_TEMPO
     return still and moved and peak - began < CARRY_FIRST and not spared
@@ -359,7 +301,7 @@ def rests_behind(began: float, progress: float, rests: bool) -> bool:
     return rests and 0 <= REST_BEHIND < began - progress
 
 
-#: While the performer rests (:func:`resting`), every template's recent likelihood (refusal)
+#: While the performer rests (:func:`tempo.resting`), every template's recent likelihood (refusal)
 #: and path misfit stay as they were (see the module docstring).
 UNJUDGED_AT_REST = True
 
@@ -370,8 +312,8 @@ def unjudged(rests: bool) -> bool:
     return rests and UNJUDGED_AT_REST
 
 
-#: While the performer rests (:func:`resting`) with an action driving that carried them forward
-#: (:func:`carried`), every template's evidence and the threshold model's stay as they were
+#: While the performer rests (:func:`tempo.resting`) with an action driving that carried them
+#: forward (:func:`carried`), every template's evidence and the threshold model's stay as they were
 #: (:func:`unweighed`; see the module docstring).
 UNWEIGHED_AT_REST = True
 
@@ -422,68 +364,3 @@ def still_unbegun(abandoned, rested, rests):
 #: Whether the ban of :func:`unbegun` lasts until the performer moves on after a rest (True) or
 #: ends at the rest itself (False).
 RESTED_LIFTS = True
-
-
-#: Tempo (:func:`slow_take`): samples over which a new action's tempo is read...
-TEMPO_SAMPLES = 10
-#: ... and the least tempo (template states per sample) at which a moving input may take it
-#: (0: no limit).
-LEAST_TEMPO = 0.3
-
-
-def slow_take(advance: float, moved: float, onset: float) -> bool:
-    """Whether a new action is taken too slowly to be performed: over the last
-    :data:`TEMPO_SAMPLES` samples its followed state moved ``advance`` states (either way), fewer
-    than :data:`LEAST_TEMPO` per sample, while the input moved ``moved`` (RMS per column, in the
-    template's spread at its estimated size) by at least ``onset``. A performer goes at 0.5-2x the
-    recorded tempo; a template whose followed state crawls while the input sweeps on is being
-    stretched over a path that is not its own (see the module docstring)."""
-    return LEAST_TEMPO > 0 and moved >= onset and abs(advance) < LEAST_TEMPO * TEMPO_SAMPLES
-
-
-#: Crawling (:func:`crawls`): samples in a row an action may be followed at a crawl while it
-#: drives (0: no limit).
-CRAWL_SAMPLES = 6
-
-
-def crawls(run: int) -> bool:
-    """Whether an action has been followed at a crawl (:func:`slow_take` true for it) for
-    ``run`` samples in a row, :data:`CRAWL_SAMPLES` or more: taken or not, it does not drive (a
-    template stretched over a path not its own, see the module docstring)."""
-    return 0 < CRAWL_SAMPLES <= run
-
-
-#: The performer rests when the mean of their last samples moved less than this many still
-#: radii (every column) from the mean of the samples before (:func:`resting`).
-RESTING_RADII = 2.0
-
-
-def resting(recent: list[np.ndarray], radius: np.ndarray) -> bool:
-    """Whether the performer rests: the mean of the later half of the ``recent`` samples (at
-    least 4, oldest first) is within :data:`RESTING_RADII` ``radius`` (per column, raw units) of
-    the earlier half's. Net motion, not the samples' spread, so the tracking jitter (about one
-    still radius with many templates loaded) does not read as moving."""
-    n = len(recent) // 2
-    if n < 2:
-        return False
-    d = np.mean(recent[-n:], axis=0) - np.mean(recent[:n], axis=0)
-    return bool(np.all(np.abs(d) <= RESTING_RADII * radius))
-
-
-#: Whether an action stopped for crawling stays stopped while the input hovers
-#: (:func:`crawl_run`).
-CRAWL_HOVERS = True
-
-
-def crawl_run(run: int, same: bool, slow: bool, hovers: bool) -> int:
-    """The samples in a row an action has been followed at a crawl after this sample: ``run``
-    so far (for the same best action when ``same``), one more when it is ``slow``
-    (:func:`slow_take`), else 0; but an action already stopped for crawling (:func:`crawls`)
-    stays so while the input ``hovers`` (it moved less than the onset while the action was not
-    followed at tempo either, and the action has not driven since the attempt began): a still
-    input tells nothing of its tempo, and it is taken again only at tempo. Reset there, an
-    aimless wander slowing down retook the wave it had crawled in at once, valid for 17 samples
-    while the wave's state stayed at 0.278 (see the module docstring)."""
-    if slow:
-        return run + 1 if same else 1
-    return run if same and hovers and CRAWL_HOVERS and crawls(run) else 0

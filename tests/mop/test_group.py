@@ -266,13 +266,13 @@ def test_a_group_with_shared_starts_equals_its_followers_alone():
 
 
 def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
-    # validity.crawls, compiled in member_validity.tempo and members.conclude: unrelated puck
+    # tempo.crawls, compiled in member_validity.tempo and members.conclude: unrelated puck
     # motions (a triangle, a diagonal, a wander) whose best crawls; measured 50 valid states (55
     # without the rule), with shared starts off (share_radius 0; with them on the rule has
     # nothing left to stop here) and nothing vetoed as an overrun
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates, performance, unrelated_motions
-    from behaviors.mop import validity
+    from behaviors.mop import tempo
     gestures = gesture_templates()
     rng = np.random.default_rng(11)
     paths = unrelated_motions(rng, gestures)
@@ -293,7 +293,7 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
                    for x in s[:n])
 
     valid = valid_alone()
-    monkeypatch.setattr(validity, "CRAWL_SAMPLES", 0)   # the followers alone read it at each step
+    monkeypatch.setattr(tempo, "CRAWL_SAMPLES", 0)   # the followers alone read it at each step
     plain = valid_alone()
     assert valid <= plain - 3, (valid, plain)
 
@@ -326,7 +326,7 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     # unrelated puck motions paused 0.6 s part way and resting to the longest one's end (a
     # triangle, spiral, mirrored zigzag and wave). Measured 71 valid states, 82 with the refusal
     # and misfit judged at rest too (the whole draw, every motion at 0.7, 1.0, 1.4x: 289 vs 293;
-    # without validity.crawl_run, which keeps a crawl through hovering from counting: 362 vs
+    # without tempo.crawl_run, which keeps a crawl through hovering from counting: 362 vs
     # 371, and the mirrored figure eight accepted again as it rests, 53 vs 0, which crawl_run
     # stops whether refusal is judged at rest or not; with the last samples' fit,
     # shape_lead.TAKE_MISFIT2, lifted here: with it 19 vs 22)

@@ -85,7 +85,7 @@ def test_a_smaller_lift_held_briefly_is_followed_through_its_hold(gestures, rule
 def test_the_group_reads_resting_as_its_followers_do():
     # holding.resting_with: the buffered samples before this one and this one
     from behaviors.mop.holding import resting_with
-    from behaviors.mop.validity import resting
+    from behaviors.mop.tempo import resting
     rng = np.random.default_rng(4)
     radius = np.array([1.0, 0.5])
     seen = set()
@@ -178,7 +178,7 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     # a template drives once its followed progress covered 8% of its path and while the input
     # keeps to its path; measured: mean valid share 0.103 with them, 0.197 without (the
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
-    # they stay valid for those stretches; validity.stalls and validity.crawls take part of
+    # they stay valid for those stretches; validity.stalls and tempo.crawls take part of
     # what they would: without crawls 0.121 with them, 0.251 without); all measured with the
     # last samples' fit (shape_lead.TAKE_MISFIT2) lifted, which takes most of what they take
     monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)   # read at each step
@@ -292,7 +292,7 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
     # a few samples of its recognition at a slow tempo (a 0.7x figure eight, a 1.4x square:
     # 2 of 24 here). Measured: valid ticks in the resting tail 29 (without 35), in all 153 (162),
     # paused gestures valid on track after 30% 0.676 (0.712; with the path misfit at 1.4 sigma
-    # instead of 1.2, refusal.py: 168 (177), 0.693 (0.718)); validity.crawls and
+    # instead of 1.2, refusal.py: 168 (177), 0.693 (0.718)); tempo.crawls and
     # validity.unjudged take part of what it took (before unjudged: 33 (47), 181 (198); without
     # crawls either: 44 (70), 257 (286)); with the take sizes up to 1.4 times the estimate
     # (shape_lead.TAKE_SIZES), as here: 6 (12), 75 (84), 0.705 (0.728); up to 1.12, the
@@ -310,7 +310,7 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
 def test_resting_reads_net_motion_not_jitter():
     # the bench's tracking jitter (0.7 mm) around a resting puck against a still radius of 0.9 mm
     # (twenty templates loaded), and a slow stroke (0.1 m in 3 s at 30 Hz)
-    from behaviors.mop.validity import resting
+    from behaviors.mop.tempo import resting
     rng = np.random.default_rng(0)
     radius = np.full(2, 0.0009)
     rest = [resting(list(rng.normal(0, 0.0007, (6, 2))), radius) for _ in range(500)]
@@ -361,13 +361,14 @@ def _crawl_shares(gestures):
 
 def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
     # a template whose followed state crawls while the input sweeps on is not taken
-    # (validity.slow_take): the triangle's stroke held in a template's turn, the wander hovering.
+    # (tempo.slow_take): the triangle's stroke held in a template's turn, the wander hovering.
     # Measured: triangle 0.089 (0.172 without), wander 0.028 (0.053); nothing vetoed as an
     # overrun (overrun.overruns takes these ticks too)
-    from behaviors.mop import follower_validity, validity
+    from behaviors.mop import follower_validity, tempo, validity
 
     monkeypatch.setattr(follower_validity.Validity, "_overruns", lambda self, k, g, x: False)
     now = _crawl_shares(gestures)
+    monkeypatch.setattr(tempo, "LEAST_TEMPO", 0.0)
     monkeypatch.setattr(validity, "LEAST_TEMPO", 0.0)
     plain = _crawl_shares(gestures)
     assert now["triangle"] <= 0.1 and now["triangle"] <= plain["triangle"] - 0.07, (now, plain)
@@ -395,15 +396,15 @@ def _stretch_shares(gestures) -> tuple[float, float, float]:
 
 def test_an_action_followed_at_a_crawl_stops_driving(gestures, monkeypatch):
     # a taken action whose followed state crawls for six samples in a row while the input sweeps
-    # on is a template stretched over a path not its own (validity.crawls): the triangle's
+    # on is a template stretched over a path not its own (tempo.crawls): the triangle's
     # stroke along the line, a diagonal on the circle's chord. Measured: triangle 0.062 (0.076
     # without), diagonal 0.170 (0.173); the gestures themselves 0.824 (0.825) (before the sizes
     # at reversals, invariance.REVERSAL_FIT: 0.087 (0.106), 0.170 (0.173), 0.821 (0.821); before
     # invariance.ALONG and validity.unjudged: 0.098 (0.130), 0.217 (0.226), 0.816 (0.814))
-    from behaviors.mop import validity
+    from behaviors.mop import tempo
 
     now = _stretch_shares(gestures)
-    monkeypatch.setattr(validity, "CRAWL_SAMPLES", 0)
+    monkeypatch.setattr(tempo, "CRAWL_SAMPLES", 0)
     plain = _stretch_shares(gestures)
     assert now[0] <= plain[0] - 0.01 and now[1] <= plain[1], (now, plain)
     assert now[2] >= plain[2] - 0.005, (now, plain)

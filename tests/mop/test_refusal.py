@@ -160,14 +160,14 @@ def _wander_valid(gestures) -> int:
 
 def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gestures,
                                                                             monkeypatch):
-    # validity.crawl_run: a wander crawling in the wave's first hump is stopped (crawls); as it
+    # tempo.crawl_run: a wander crawling in the wave's first hump is stopped (crawls); as it
     # slows below the onset the wave was retaken at once, its state not moving. Measured 94
     # valid ticks, 140 with the crawl reset while hovering (before the last samples' fit); with
     # the take sizes up to 1.4 times the estimate (shape_lead.TAKE_SIZES), as here, 48 and 80;
     # with them up to 1.12, the default, 42 and 67
     monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     now = _wander_valid(gestures)
-    monkeypatch.setattr(validity, "CRAWL_HOVERS", False)   # the followers read it each step
+    monkeypatch.setattr(tempo, "CRAWL_HOVERS", False)   # the followers read it each step
     reset = _wander_valid(gestures)
     assert now <= reset - 30, (now, reset)
 
