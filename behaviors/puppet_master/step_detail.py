@@ -234,11 +234,21 @@ class StepDetail(StepSenses):
             # 1987 -> 1986 / 1943 -> 1945 / 1955 -> 1955 of 2160, the engine's alone 47 -> 47 /
             # 72 -> 71 / 89 -> 89 (the lover's 124 -> 123 misses, 26 -> 25 the engine's over
             # the nine runs); the other characters and the pursuit the same to the last digit.
-            # Only for a character that walks with its main (Behavior.walks_with_main): the
-            # afraid one, chased without its edge margin and room (test_pm_room.py), was
-            # shoved once on seed 2 (1.16x), and the chase from there ran another way (time
-            # at an edge 0.73 -> 0.48; with the room 0.49)
-            if b.walks_with_main:
-                sx, sy = capped(sx, sy, b.largest_step)
+            # Every character gives way so (whatever shoved it: the main's disc, the others',
+            # the table's edge): the stalker and the afraid one were shoved 1.05-1.06x their
+            # largest by a 30 Hz main on a 2.0 x 1.2 m table, 2.15x / 1.98x by a main at
+            # 0.5-1 m/s on 1.2 x 0.8 m (the bully and the playful friend 1.09x / 1.08x); over
+            # the five characters on four unseen paths (2.0 x 1.2 m 30 Hz, 0.6 x 0.4 m 55 Hz,
+            # 1.2 x 0.8 m 60 Hz fast, 3.0 x 0.5 m 45 Hz) steps over their largest 33 -> 0.
+            # bench/fidelity.py --seeds 0-5: 677 of 720 (the engine's alone 7), pursuit 47,
+            # unchanged; --seeds 40-51 --perturb 2: 1328 (31), pursuit 85, unchanged (the
+            # perturbed runs 1328 / 1339 / 1334 -> 1328 / 1339 / 1335). What it costs: a main
+            # faster than the character was ever shown to move comes nearer than its disc
+            # (the afraid one's least distance on that fast path 0.104 -> 0.053 m). Given way
+            # sideways instead (that step across the main's own step, away from its line;
+            # Python step): least distances mixed on those paths, the afraid one 0.053 -> 0.068
+            # m and the stalker 0.035 -> 0.042 beside the fast main, but the stalker 0.051 ->
+            # 0.038 beside the 30 Hz one and the playful friend 0.050 -> 0.039. Not kept
+            sx, sy = capped(sx, sy, b.largest_step)
         gov.observe(sx, sy)
         return sx, sy, heading, texture

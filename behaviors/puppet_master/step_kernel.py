@@ -356,8 +356,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         if c[KEEPS_PACE] != 0.0 and hypot(rx + sx - mx, ry + sy - my) < c[MAIN_DISC]:
             lose_inward(smooth_x, smooth_y, nx - mx, ny - my)     # pushed aside (step.py)
         sx, sy = nx - rx, ny - ry
-        if c[WALKS_WITH_MAIN] != 0.0:     # shoved (step.py)
-            sx, sy = capped(sx, sy, c[LARGEST_STEP])
+        sx, sy = capped(sx, sy, c[LARGEST_STEP])     # shoved (step_detail.py)
     # TextureGovernor.observe
     if hypot(sx, sy) <= c[GOV_MIN_STEP]:
         fs[GOV_PREV] = math.nan
