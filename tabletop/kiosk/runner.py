@@ -304,7 +304,12 @@ class Runner:
     def run(self, seconds: float | None = None) -> int:
         from tabletop.kiosk.watch import ConfigWatcher
         if self.kiosk and self.cfg["kiosk"]["watch_config"] or self.studio_on:
-            self.watcher = ConfigWatcher(self.config_path, self.cfg, self._load, self._apply)
+            # the file as the running configuration was read from it (not the last good one
+            # a refused file left running: that look is to say the refusal)
+            read = (getattr(self.cfg, "read", None) if self.config_error is None
+                    and Path(getattr(self.cfg, "file", "")) == self.config_path else None)
+            self.watcher = ConfigWatcher(self.config_path, self.cfg, self._load, self._apply,
+                                         read=read)
             self.watcher.error = self.config_error
         try:
             self._run_loops(seconds)
