@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
+from behaviors.worker import Worker
 from tabletop.frames import Frame, InputError
 
 log = logging.getLogger("tabletop")
@@ -101,9 +102,15 @@ class ConfigWatcher:
 
     def __init__(self, path: Path, current: dict[str, Any], load: Callable[[Path], dict],
                  apply: Callable[[dict[str, Any]], None], every_s: float = 1.0,
-                 clock: Callable[[], float] = time.monotonic, read: tuple | None = None) -> None:
+                 clock: Callable[[], float] = time.monotonic, read: tuple | None = None,
+                 background: bool = False) -> None:
         self.path, self.current, self.load, self.apply = Path(path), current, load, apply
         self.named: tuple[Path, ...] = ()    # the files a refused edit names
+        # ``background``: a changed file is validated in a worker thread and settled at the
+        # first look after it is done (examples/mop.yaml: 20-33 ms of CPU, within the tick
+        # the change was seen in)
+        self.worker = Worker("config-watch") if background else None
+        self._named: tuple[Path, ...] | None = None     # a validation in the worker: named
         self.poller = Poller(self.path, every_s, clock, since_start=read is None,
                              read=None if read is None else (read,), signature=self._signature)
         self.error: str | None = None
@@ -120,22 +127,37 @@ class ConfigWatcher:
         return seen[:1] if seen else (file_signature(self.path),)
 
     def __call__(self, frame: Frame | None = None) -> None:
+        if self.worker is not None and self._named is not None:
+            done = self.worker.poll()
+            if done is None:
+                return
+            named, self._named = self._named, None
+            self._settle(done, named)
+            return
         if not self.poller.changed():
             return
         named, self.named = self.named, ()
-        try:
-            cfg = self.load(self.path)
-        except InputError as exc:
-            self.named = tuple(getattr(exc, "files", ()))
-            if self.named != named:     # what they are now: a change from here is looked at
-                self.poller.signature = self._config_seen() + tuple(
-                    map(file_signature, self.named))
-            if str(exc) == self.error:    # already said (a kiosk started on the last good one)
-                return
-            self.error = str(exc)
-            self.refused += 1
-            log.error("config edit refused, the running configuration stays: %s", exc)
+        if self.worker is not None:
+            self._named = named
+            self.worker.start(self._validate)
             return
+        self._settle(self._validate(), named)
+
+    def _validate(self) -> dict[str, Any] | InputError:
+        try:
+            return self.load(self.path)
+        except InputError as exc:
+            return exc
+
+    def _settle(self, got: Any, named: tuple[Path, ...]) -> None:
+        """Apply the validated config ``got``, or say its refusal (``named``: the files the
+        refusal before it named)."""
+        if isinstance(got, InputError):
+            self._refuse(got, named)
+            return
+        if isinstance(got, BaseException):   # (a fault, not a refusal: raised as before)
+            raise got
+        cfg = got
         if named:
             self.poller.signature = self._config_seen()
         was_refused, self.error = self.error is not None, None
@@ -147,6 +169,28 @@ class ConfigWatcher:
         self.current = cfg
         self.applied += 1
         self.apply(cfg)
+
+    def _refuse(self, exc: InputError, named: tuple[Path, ...]) -> None:
+        self.named = tuple(getattr(exc, "files", ()))
+        if self.named != named:     # what they are now: a change from here is looked at
+            self.poller.signature = self._config_seen() + tuple(
+                map(file_signature, self.named))
+        if str(exc) == self.error:    # already said (a kiosk started on the last good one)
+            return
+        self.error = str(exc)
+        self.refused += 1
+        log.error("config edit refused, the running configuration stays: %s", exc)
+
+    def wait(self) -> None:
+        """Wait for a validation in the worker and settle it (tests; the loop never waits)."""
+        if self.worker is not None and self._named is not None:
+            self.worker.wait()
+            self()
+
+    def close(self) -> None:
+        """End the worker's thread (the run is over)."""
+        if self.worker is not None:
+            self.worker.close()
 
     def status(self) -> dict[str, Any]:
         return {"config": str(self.path), "config_error": self.error}

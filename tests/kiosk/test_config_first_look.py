@@ -1,7 +1,9 @@
 """The config watcher's first look: the file as the running configuration was read from it is
 not validated again (examples/mop.yaml: 20-30 ms of the frame loop's CPU in one tick at every
-start); an edit saved after that read is."""
+start); an edit saved after that read is. A changed file is validated in a worker thread, off
+the frame loop's tick."""
 
+import threading
 from pathlib import Path
 
 import yaml
@@ -62,3 +64,34 @@ def test_the_runner_hands_the_read_to_its_watcher(tmp_path, monkeypatch):
         runner = Runner(path, cfg, headless=True, studio=True, config_error=error)
         runner.run()
         assert runner.watcher.poller.signature == first
+        # validated in its worker, whose thread ended with the run
+        assert runner.watcher.worker is not None
+        assert not runner.watcher.worker._thread.is_alive()
+
+
+def test_a_changed_file_is_validated_off_the_loop_thread(tmp_path):
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    cfg = load_config(path)
+    go, threads, applied = threading.Event(), [], []
+
+    def load(p: Path) -> dict:
+        threads.append(threading.current_thread())
+        assert go.wait(10)
+        return load_config(p)
+    w = ConfigWatcher(path, cfg, load, applied.append, every_s=0.0, read=cfg.read,
+                      background=True)
+    try:
+        path.write_text(yaml.safe_dump(config([200, 100, 50])))
+        w()                          # returns at once, the file being validated meanwhile
+        w()
+        assert applied == [] and threading.current_thread() not in threads
+        go.set()
+        w.wait()
+        assert [c["engines"][0]["color"] for c in applied] == [[200, 100, 50]]
+        path.write_text("loop: {rate_hz: sixty}\n" + path.read_text())
+        w()
+        w.wait()
+        assert w.refused == 1 and "loop.rate_hz" in w.error and len(threads) == 2
+    finally:
+        w.close()
