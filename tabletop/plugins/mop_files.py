@@ -105,6 +105,11 @@ class Template(type(Path())):
     def __reduce__(self) -> tuple:
         return _template, (str(self), self.table, self.read)
 
+    def unchanged(self) -> bool:
+        """Is the file on disk still as it was read (its signature: a stat, no open)?"""
+        from tabletop.kiosk.watch import tree_signature
+        return tree_signature(self) == self.read
+
 
 def _template(path: str, table: tuple, read: tuple) -> Template:
     t = Template(path)
@@ -130,8 +135,7 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
     """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
     has a ``t`` column. Raises FileFormatError naming the file. A :class:`Template` unchanged
     on disk since it was read is not read again."""
-    from tabletop.kiosk.watch import tree_signature
-    if isinstance(path, Template) and tree_signature(path) == path.read:
+    if isinstance(path, Template) and path.unchanged():
         header, data, lines = path.table
     else:
         header, data, lines = _read_table(path)

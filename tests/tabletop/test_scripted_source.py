@@ -71,11 +71,35 @@ def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monk
     assert np.array_equal(pickle.loads(pickle.dumps(gestures))[1].rows, circle)
 
 
-def test_attract_reads_each_template_once_for_its_performers(monkeypatch):
+def test_attract_takes_the_templates_its_config_load_read(monkeypatch):
     cfg = load_config(ROOT / "examples" / "mop.yaml")
     reads = _counting_reads(monkeypatch)
     options = {"name": "attract", "pucks": [], "seed": 0,
                "performers": attract_performers(cfg, (1.2, 0.8))}
     source = scripted.build(options, BuildContext((1.2, 0.8), 60.0, cfg, ROOT))
     assert sorted(source.performers) == [1, 2]
-    assert reads and set(reads.values()) == {1}
+    assert not reads         # each template was read once, by the config's load
+    cols, data = read_csv(GESTURES / "circle.csv")
+    circle = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert any(np.array_equal(g, circle) for g in source.performers[1].gestures)
+
+
+def test_attract_reads_a_template_changed_since_the_config_load(tmp_path, monkeypatch):
+    for name in ("line.csv", "circle.csv"):
+        shutil.copy(GESTURES / name, tmp_path / name)
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(
+        "sources: [{kind: scripted}]\nengines:\n  - kind: mop\n    performers:\n"
+        "      - {name: hand, inputs: [{kind: puck, id: 1, features: [dx, dy]}]}\n"
+        "    characters:\n      - name: lizard\n        kind: creature\n"
+        "        performer: hand\n        actions:\n"
+        "          - {name: line, template: line.csv, motion: walk}\n"
+        "          - {name: circle, template: circle.csv, motion: curl}\n")
+    cfg = load_config(cfg_path)
+    shutil.copy(GESTURES / "zigzag.csv", tmp_path / "circle.csv")      # edited meanwhile
+    reads = _counting_reads(monkeypatch)
+    (performer,) = attract_performers(cfg, (1.2, 0.8))
+    assert reads == {"circle.csv": 1}
+    cols, data = read_csv(GESTURES / "zigzag.csv")
+    zigzag = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert np.array_equal(performer["gestures"][1].rows, zigzag)
