@@ -14,6 +14,7 @@ from tabletop.plugins import mop, mop_files
 from tabletop.plugins.mop_files import load_template
 from tabletop.plugins.mop_table import EXAMPLES, RATE
 from tabletop.registry import BuildContext
+from tests.reads import counting_reads
 
 GESTURES = EXAMPLES / "mop" / "gestures"
 
@@ -32,15 +33,7 @@ def _data() -> dict:
 
 
 def _counting_reads(monkeypatch) -> Counter:
-    reads: Counter = Counter()
-    real = mop_files.read_csv_lines
-
-    def counting(path, *args, **kwargs):
-        reads[Path(path).name] += 1
-        return real(path, *args, **kwargs)
-
-    monkeypatch.setattr(mop_files, "read_csv_lines", counting)
-    return reads
+    return counting_reads(monkeypatch, mop_files, "read_csv_lines")
 
 
 def _load(tmp_path: Path):

@@ -17,6 +17,7 @@ from tabletop.kiosk.attract import attract_performers
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
+from tests.reads import counting_reads
 
 ROOT = Path(__file__).resolve().parents[2]
 GESTURES = ROOT / "examples" / "mop" / "gestures"
@@ -38,15 +39,7 @@ def test_a_damaged_gesture_file_is_refused_naming_its_key(tmp_path):
 
 
 def _counting_reads(monkeypatch) -> Counter:
-    reads: Counter = Counter()
-    real = scripted.read_csv
-
-    def counting(path, *args, **kwargs):
-        reads[Path(path).name] += 1
-        return real(path, *args, **kwargs)
-
-    monkeypatch.setattr(scripted, "read_csv", counting)
-    return reads
+    return counting_reads(monkeypatch, scripted, "read_csv")
 
 
 def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monkeypatch):
