@@ -1,7 +1,8 @@
 """Files watched while running: ``config.yaml`` edits applied or refused, folders reloaded.
 
 :class:`ConfigWatcher` is a frame-loop hook: about once a second it looks at the config file's
-modification time and size; when they change it validates the new file. A bad file is refused
+modification time and size; when they change it validates the new file (the run's watcher in
+a worker thread, settled at a later tick: the tick stays free of it). A bad file is refused
 with one line naming the file, key and reason (logged, in the status as ``config_error``, on
 the overlay), and the running configuration stays. A good one that differs from the running
 configuration is handed to ``apply`` (the run command rebuilds the installation with it).
