@@ -49,9 +49,9 @@ from behaviors.mop.puppetry import Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_rigs import check_body, make_rig, motion_kind
 from tabletop.plugins.mop_stream import check_stream
-from tabletop.plugins.mop_files import (MopError, MotionLoader, Template, action_entries,
-                                        action_files, configured_action, configured_actions,
-                                        load_template, read_template, resolve_motion)
+from tabletop.plugins.mop_files import (MopError, MotionLoader, action_entries, action_files,
+                                        configured_action, configured_actions, load_template,
+                                        read_template, resolve_motion)
 from tabletop.plugins.mop_library import (WINDOW_RANGE, ActionsFile, check_shared_library,
                                           library_actions, library_names, save_to_library)
 from tabletop.files import FileFormatError
@@ -229,7 +229,6 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             raise ctx.error(f"{path}.performers[{i}].inputs", str(exc)) from None
     chars = set()
     rigs: dict = {}                              # each character's rig, made for a clip file
-    read: dict[str, Template] = {}               # each template file read, by path
     for i, c in enumerate(cfg["characters"]):
         where = f"{path}.characters[{i}]"
         if not c["name"].strip() or c["name"] in (".", "..") or any(s in c["name"] for s in "/\\"):
@@ -287,10 +286,10 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             try:    # its columns, times and span, at load: the key is named, not only the file
                 # (load_config of examples/mop.yaml 20 -> 30 ms, mean of 5 on a loaded machine);
                 # read once however many actions name it, the build takes what was read
-                key = str(a["template"])
-                if key not in read:
-                    read[key] = read_template(Path(key))
-                a["template"] = read[key]
+                key = ("template", Path(a["template"]))
+                if key not in ctx.read:
+                    ctx.read[key] = read_template(key[1])
+                a["template"] = ctx.read[key]
                 load_template(a["template"], features[a["performer"] or c["performer"]],
                               cfg["rate_hz"])
             except FileFormatError as exc:

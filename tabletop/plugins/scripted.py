@@ -77,10 +77,13 @@ class GestureFile(FilePath):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Gesture:
         p = super().validate(value, path, ctx)
-        try:
-            return read_gesture(p)
-        except FileFormatError as exc:
-            raise ctx.error(path, str(exc)) from None
+        key = ("gesture", p)     # (examples/mop.yaml's two performers: 11 keys, 6 files)
+        if key not in ctx.read:
+            try:
+                ctx.read[key] = read_gesture(p)
+            except FileFormatError as exc:
+                raise ctx.error(path, str(exc)) from None
+        return ctx.read[key]
 
 
 SCHEMA = Record({

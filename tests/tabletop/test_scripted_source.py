@@ -96,3 +96,15 @@ def test_attract_reads_a_template_changed_since_the_config_load(tmp_path, monkey
     cols, data = read_csv(GESTURES / "zigzag.csv")
     zigzag = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
     assert np.array_equal(performer["gestures"][1].rows, zigzag)
+
+
+def test_a_gesture_file_named_by_two_performers_is_read_once(tmp_path, monkeypatch):
+    shutil.copy(GESTURES / "circle.csv", tmp_path / "circle.csv")
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
+                        "      - {puck: 2, home: [0.5, 0.4], gestures: [circle.csv]}\n"
+                        "      - {puck: 3, home: [0.8, 0.4], gestures: [circle.csv]}\n")
+    reads = _counting_reads(monkeypatch)
+    cfg = load_config(cfg_path)
+    assert reads == {"circle.csv": 1}
+    assert load_config(cfg_path) == cfg
