@@ -198,12 +198,15 @@ def top_schema() -> Record:
 class Config(dict):
     """A validated config (every default filled in), remembering where it came from: ``raw``,
     the mapping as written; ``base``, the folder its relative paths are relative to; ``refs``,
-    the files and folders it names (a recording embeds them, see :mod:`tabletop.bundle`)."""
+    the files and folders it names (a recording embeds them, see :mod:`tabletop.bundle`);
+    ``read``, the file's signature taken just before it was read
+    (:func:`tabletop.kiosk.watch.file_signature`; None when validated from a mapping)."""
 
     def __init__(self, values: dict[str, Any], raw: Any, base: Path, file: str,
-                 refs: list[FileRef]) -> None:
+                 refs: list[FileRef], read: tuple | None = None) -> None:
         super().__init__(values)
         self.raw, self.base, self.file, self.refs = raw, base, file, refs
+        self.read = read
 
 
 MAX_CONFIG_BYTES = 2**20   # the largest shipped config (examples/mop.yaml) is 4.9 kB
@@ -213,11 +216,15 @@ def load_config(path: str | Path, start_without: bool = False) -> Config:
     """Read and validate a config file; returns the config with every default filled in.
     ``start_without``: the files of engines' actions are read by the build, not here
     (:class:`~tabletop.schema.Context`)."""
+    from tabletop.kiosk.watch import file_signature
     p = Path(path)
+    read = file_signature(p)     # (the config watcher's first look compares with it)
     data = read_yaml(p, ConfigError, missing="config file not found", max_bytes=MAX_CONFIG_BYTES,
                      kind="config")
     _no_library_file(data, p)
-    return validate_config(data, str(p), p.resolve().parent, start_without)
+    cfg = validate_config(data, str(p), p.resolve().parent, start_without)
+    cfg.read = read
+    return cfg
 
 
 def _no_library_file(data: Any, p: Path) -> None:

@@ -55,14 +55,20 @@ def _signature(files: tuple[Path, ...]) -> Callable[[Path], tuple]:
     return lambda _path: tuple(map(tree_signature, files))
 
 
-def _read(files: tuple[Path, ...]) -> list[bytes | None]:
+def _read(files: tuple[Path, ...], known: dict[Path, bytes | None] | None = None
+          ) -> list[bytes | None]:
     """Each file's bytes, None for one that is not there (the action's build then says so as
     the start said it); InputError naming a file that cannot be read (not a regular file, too
-    long, no permission)."""
+    long, no permission). ``known``: files read already (each is read once into it)."""
     out: list[bytes | None] = []
     for f in files:
+        if known is not None and f in known:
+            out.append(known[f])
+            continue
         try:
             out.append(read_regular_bytes(f))
+            if known is not None:
+                known[f] = out[-1]
         except FileNotFoundError:
             out.append(None)
         except UnreadableText as exc:
@@ -136,10 +142,12 @@ class ActionReloader:
         self.pollers = {id(m): Poller(m["files"][0], 0.0, clock, read=m["read"] or None,
                                       signature=_signature(m["files"]), settle=True)
                         for m in self.watched}
+        known: dict[Path, bytes | None] = {}    # each file read once, however many actions
+        # name it (examples/mop.yaml: 16 template reads -> 6)
         for m in self.watched:      # the bytes each playing action was built from
             if m["why"] is None and m["read"]:
                 try:
-                    data = _read(m["files"])
+                    data = _read(m["files"], known)
                 except InputError:
                     continue
                 if _signature(m["files"])(m["files"][0]) == m["read"]:   # (as the start read)

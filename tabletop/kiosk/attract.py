@@ -21,7 +21,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from typing import Callable
+from pathlib import Path
+from typing import Any, Callable
 
 from tabletop.frames import Frame, Puck
 
@@ -32,8 +33,6 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
     """Scripted performers for attract mode, one per MOP performer driven by a puck's path
     (``features: [dx, dy]``): it draws that performer's action templates (CSV ``t,dx,dy``) from
     a home spread along the table, so the MOP characters play their actions."""
-    from tabletop.files import FileFormatError
-    from tabletop.plugins.scripted import read_gesture
     found: list[tuple[int, list]] = []
     read: dict[str, object] = {}    # each template read once, however many actions share it
     for e in cfg["engines"]:
@@ -49,10 +48,7 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
                     if (a["performer"] or c["performer"]) == p["name"]:
                         key = str(a["template"])
                         if key not in read:   # (the scripted build takes the rows read here)
-                            try:
-                                read[key] = read_gesture(a["template"])
-                            except FileFormatError:
-                                read[key] = None
+                            read[key] = _gesture(a["template"])
                         if read[key] is not None:
                             files.append(read[key])
             if files:
@@ -60,6 +56,21 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
     w, h = table
     return [{"puck": pid, "home": [w * (k + 1) / (len(found) + 1), h * 0.45], "gestures": files,
              "speed": [0.8, 1.3]} for k, (pid, files) in enumerate(found)]
+
+
+def _gesture(template: Path) -> Any:
+    """A MOP template as a scripted gesture (CSV ``t,dx,dy``; None if it is none): the table
+    its config's load read while the file is as it was (no second read), else read now."""
+    from tabletop.files import FileFormatError
+    from tabletop.plugins.mop_files import Template
+    from tabletop.plugins.scripted import gesture_of, read_gesture
+    if isinstance(template, Template) and template.unchanged():
+        cols, data, _ = template.table
+        return gesture_of(template, cols, data) if {"t", "dx", "dy"} <= set(cols) else None
+    try:
+        return read_gesture(template)
+    except FileFormatError:
+        return None
 
 
 def smoothstep(u: float) -> float:

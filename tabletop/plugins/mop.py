@@ -51,7 +51,7 @@ from tabletop.plugins.mop_rigs import check_body, make_rig, motion_kind
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (MopError, MotionLoader, action_entries, action_files,
                                         configured_action, configured_actions, load_template,
-                                        resolve_motion)
+                                        read_template, resolve_motion)
 from tabletop.plugins.mop_library import (WINDOW_RANGE, ActionsFile, check_shared_library,
                                           library_actions, library_names, save_to_library)
 from tabletop.files import FileFormatError
@@ -284,8 +284,13 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             if ctx.start_without:   # a kiosk's start: the build reads it (or goes without)
                 continue
             try:    # its columns, times and span, at load: the key is named, not only the file
-                # (load_config of examples/mop.yaml 20 -> 30 ms, mean of 5 on a loaded machine)
-                load_template(Path(a["template"]), features[a["performer"] or c["performer"]],
+                # (load_config of examples/mop.yaml 20 -> 30 ms, mean of 5 on a loaded machine);
+                # read once however many actions name it, the build takes what was read
+                key = ("template", Path(a["template"]))
+                if key not in ctx.read:
+                    ctx.read[key] = read_template(key[1])
+                a["template"] = ctx.read[key]
+                load_template(a["template"], features[a["performer"] or c["performer"]],
                               cfg["rate_hz"])
             except FileFormatError as exc:
                 raise ctx.error(f"{aw}.template", str(exc)) from None

@@ -92,11 +92,53 @@ MAX_TEMPLATE_S = 3600.0   # seconds an action's template may span (gestures take
 # whose last t was 1e9 was resampled at the engine's rate and stopped the run "out of memory"
 
 
+class Template(type(Path())):
+    """A template CSV's path (equal to it, as any config path) carrying what the config's load
+    read of it: ``table``, its header, rows and the file line of each row (read-only), and
+    ``read``, the file's signature taken just before (:func:`tabletop.kiosk.watch.
+    tree_signature`). :func:`load_template` takes the table while the file's signature is
+    still ``read`` (a stat, no open) and reads a file changed since again."""
+
+    table: tuple[list[str], np.ndarray, np.ndarray]
+    read: tuple
+
+    def __reduce__(self) -> tuple:
+        return _template, (str(self), self.table, self.read)
+
+    def unchanged(self) -> bool:
+        """Is the file on disk still as it was read (its signature: a stat, no open)?"""
+        from tabletop.kiosk.watch import tree_signature
+        return tree_signature(self) == self.read
+
+
+def _template(path: str, table: tuple, read: tuple) -> Template:
+    t = Template(path)
+    t.table, t.read = table, read
+    return t
+
+
+def _read_table(path: Path) -> tuple[list[str], np.ndarray, np.ndarray]:
+    return read_csv_lines(path, what="template CSV", min_rows=2, max_bytes=MAX_TEMPLATE_BYTES)
+
+
+def read_template(path: Path) -> Template:
+    """A template CSV read (FileFormatError naming the file), for :func:`load_template`."""
+    from tabletop.kiosk.watch import tree_signature
+    read = tree_signature(path)
+    header, data, lines = _read_table(path)
+    data.setflags(write=False)       # shared by the actions and builds of the config read
+    lines.setflags(write=False)
+    return _template(str(path), (header, data, lines), read)
+
+
 def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
     """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
-    has a ``t`` column. Raises FileFormatError naming the file."""
-    header, data, lines = read_csv_lines(path, what="template CSV", min_rows=2,
-                                         max_bytes=MAX_TEMPLATE_BYTES)
+    has a ``t`` column. Raises FileFormatError naming the file. A :class:`Template` unchanged
+    on disk since it was read is not read again."""
+    if isinstance(path, Template) and path.unchanged():
+        header, data, lines = path.table
+    else:
+        header, data, lines = _read_table(path)
     cols = [c for c in header if c != "t"]
     if sorted(cols) != sorted(names):
         raise FileFormatError(f"{path}: template columns {','.join(cols)} do not match the "
@@ -145,9 +187,14 @@ def configured_action(character: dict[str, Any], action: dict[str, Any],
     clip = loader(action["motion"])
     if check_rig and loader.rig is not None:
         loader.rig.check(clip)
-    samples = load_template(Path(action["template"]), features[performer], rate_hz)
+    samples = load_template(_path(action["template"]), features[performer], rate_hz)
     return (Action(action["name"], clip, TimeWarp(action["warp"]) if action.get("warp")
                    else TimeWarp()), performer, samples)
+
+
+def _path(p: str | Path) -> Path:
+    """``p`` as a path, a :class:`Template` as it is (``Path(t)`` drops what it carries)."""
+    return p if isinstance(p, Path) else Path(p)
 
 
 def action_entries(character: dict[str, Any], base: Path,

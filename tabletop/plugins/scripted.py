@@ -57,6 +57,12 @@ def read_gesture(path: str | Path) -> Gesture:
     """A gesture CSV (columns ``t,dx,dy`` among others, at least two rows) read."""
     cols, data = read_csv(path, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
                           max_bytes=MAX_TEMPLATE_BYTES)
+    return gesture_of(path, cols, data)
+
+
+def gesture_of(path: str | Path, cols: list[str], data: np.ndarray) -> Gesture:
+    """The :class:`Gesture` of a CSV read from ``path``: its columns ``cols`` (t, dx, dy among
+    them) and rows ``data``."""
     rows = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
     rows.setflags(write=False)       # shared by every build of the config it was read for
     return _gesture(str(path), rows)
@@ -71,10 +77,13 @@ class GestureFile(FilePath):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Gesture:
         p = super().validate(value, path, ctx)
-        try:
-            return read_gesture(p)
-        except FileFormatError as exc:
-            raise ctx.error(path, str(exc)) from None
+        key = ("gesture", p)     # (examples/mop.yaml's two performers: 11 keys, 6 files)
+        if key not in ctx.read:
+            try:
+                ctx.read[key] = read_gesture(p)
+            except FileFormatError as exc:
+                raise ctx.error(path, str(exc)) from None
+        return ctx.read[key]
 
 
 SCHEMA = Record({

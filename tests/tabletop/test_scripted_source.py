@@ -17,6 +17,7 @@ from tabletop.kiosk.attract import attract_performers
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
+from tests.reads import counting_reads
 
 ROOT = Path(__file__).resolve().parents[2]
 GESTURES = ROOT / "examples" / "mop" / "gestures"
@@ -38,15 +39,7 @@ def test_a_damaged_gesture_file_is_refused_naming_its_key(tmp_path):
 
 
 def _counting_reads(monkeypatch) -> Counter:
-    reads: Counter = Counter()
-    real = scripted.read_csv
-
-    def counting(path, *args, **kwargs):
-        reads[Path(path).name] += 1
-        return real(path, *args, **kwargs)
-
-    monkeypatch.setattr(scripted, "read_csv", counting)
-    return reads
+    return counting_reads(monkeypatch, scripted, "read_csv")
 
 
 def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monkeypatch):
@@ -71,11 +64,47 @@ def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monk
     assert np.array_equal(pickle.loads(pickle.dumps(gestures))[1].rows, circle)
 
 
-def test_attract_reads_each_template_once_for_its_performers(monkeypatch):
+def test_attract_takes_the_templates_its_config_load_read(monkeypatch):
     cfg = load_config(ROOT / "examples" / "mop.yaml")
     reads = _counting_reads(monkeypatch)
     options = {"name": "attract", "pucks": [], "seed": 0,
                "performers": attract_performers(cfg, (1.2, 0.8))}
     source = scripted.build(options, BuildContext((1.2, 0.8), 60.0, cfg, ROOT))
     assert sorted(source.performers) == [1, 2]
-    assert reads and set(reads.values()) == {1}
+    assert not reads         # each template was read once, by the config's load
+    cols, data = read_csv(GESTURES / "circle.csv")
+    circle = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert any(np.array_equal(g, circle) for g in source.performers[1].gestures)
+
+
+def test_attract_reads_a_template_changed_since_the_config_load(tmp_path, monkeypatch):
+    for name in ("line.csv", "circle.csv"):
+        shutil.copy(GESTURES / name, tmp_path / name)
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(
+        "sources: [{kind: scripted}]\nengines:\n  - kind: mop\n    performers:\n"
+        "      - {name: hand, inputs: [{kind: puck, id: 1, features: [dx, dy]}]}\n"
+        "    characters:\n      - name: lizard\n        kind: creature\n"
+        "        performer: hand\n        actions:\n"
+        "          - {name: line, template: line.csv, motion: walk}\n"
+        "          - {name: circle, template: circle.csv, motion: curl}\n")
+    cfg = load_config(cfg_path)
+    shutil.copy(GESTURES / "zigzag.csv", tmp_path / "circle.csv")      # edited meanwhile
+    reads = _counting_reads(monkeypatch)
+    (performer,) = attract_performers(cfg, (1.2, 0.8))
+    assert reads == {"circle.csv": 1}
+    cols, data = read_csv(GESTURES / "zigzag.csv")
+    zigzag = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert np.array_equal(performer["gestures"][1].rows, zigzag)
+
+
+def test_a_gesture_file_named_by_two_performers_is_read_once(tmp_path, monkeypatch):
+    shutil.copy(GESTURES / "circle.csv", tmp_path / "circle.csv")
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
+                        "      - {puck: 2, home: [0.5, 0.4], gestures: [circle.csv]}\n"
+                        "      - {puck: 3, home: [0.8, 0.4], gestures: [circle.csv]}\n")
+    reads = _counting_reads(monkeypatch)
+    cfg = load_config(cfg_path)
+    assert reads == {"circle.csv": 1}
+    assert load_config(cfg_path) == cfg
