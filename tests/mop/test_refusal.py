@@ -9,7 +9,7 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import shape_lead, threshold, validity
+from behaviors.mop import shape_lead, tempo, threshold, validity
 from behaviors.mop.follower_validity import Validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import Refusal, shape_limits
