@@ -44,12 +44,14 @@ $(EARLY_STOP): | $(STAMP)
 # folder per contents of their files, shared by every clone on the machine: a fresh clone
 # (CI's) then builds only the few plain numba ones beside their sources (18 CPU s instead of 49).
 KERNELS := $(VENV)/.kernels
-# (MOP's threshold model is compiled on its first call: a follower takes a few steps)
+# (MOP's threshold model is compiled on its first call: a follower takes a few steps; the kernels
+# declared with a signature load on first need, behaviors/kernel_cache.py: all are built here)
 MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, \
 	behaviors.mop.member_validity, behaviors.mop.sharing; \
 	from behaviors.mop.follower import ActionFollower; \
 	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
-	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]
+	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]; \
+	from behaviors.kernel_cache import load, PENDING; load(*PENDING)
 # (with the Puppet Master's, the benchmarks' path alignment, bench.motions.aligned_gap, that the
 # MOP tests' unrelated motions call: else the test workers compiled it on first use, 0.8 s each;
 # and MOP's take fits, behaviors/mop/take_fit.py, on gestures followed at two sizes: else every
@@ -61,7 +63,8 @@ PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
 	from bench.follow_quality import puck_follower, run; \
 	g = bench.motions.gesture_templates(); f = puck_follower(g); rng = np.random.default_rng(0); \
 	[run(f, bench.motions.performance(rng, g[n], s)[0]) \
-	 for n in ('circle', 'zigzag') for s in (0.7, 1.4)]
+	 for n in ('circle', 'zigzag') for s in (0.7, 1.4)]; \
+	from behaviors.kernel_cache import load, PENDING; load(*PENDING)
 BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "$(PM_AND_BENCH)" & pm=$$!; \

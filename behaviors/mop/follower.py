@@ -26,6 +26,9 @@ from typing import Mapping
 
 import numpy as np
 
+from behaviors.kernel_cache import load
+from behaviors.mop import (glitch, overrun, path_kernel, reversal, size_probe,
+                           window_kernel)
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import (OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, glitch_limits,
                                   path_distance)
@@ -44,6 +47,13 @@ from behaviors.mop.turning import Turning
 from behaviors.mop.follower_validity import Validity
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
+
+#: The compiled kernels a follower's step calls from Python, loaded when it is built, not on
+#: the step that first calls one (behaviors.kernel_cache.load; what they call is in their code).
+_KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
+            path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
+            reversal.reversal_size, size_probe.probe_allowed, size_probe.take_probe)
+
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,
                      ShapeLead):
@@ -115,6 +125,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
                  threshold: float = 0.0, turn_limit: float = math.inf,
                  share_radius: float = 3.0, still_scale: np.ndarray | None = None) -> None:
         # as given: the defaults differ by invariance, which a group's members may mix
+        load(*_KERNELS)   # before the first step (behaviors.kernel_cache)
         shape_given = (shape_distance, shape_accept)
         shape_distance, shape_accept = shape_limits(invariance, shape_distance, shape_accept)
         check_ranges(sigma=sigma, window=window, memory=memory, null_distance=null_distance,

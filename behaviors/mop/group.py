@@ -13,7 +13,8 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.mop import group_kernel, group_steps, members, shape_lead
+from behaviors.kernel_cache import load
+from behaviors.mop import group_kernel, group_steps, member_validity, members, shape_lead
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
 from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
@@ -44,6 +45,9 @@ class FollowerGroup(GroupArrays, GroupRules):
                 raise TemplateError(f"follower {i} of the group has other parameters than "
                                     "follower 0; a group's followers must share sigma, window, "
                                     "transitions and limits")
+        # the kernels a step calls, loaded now: not on the first step (behaviors.kernel_cache)
+        load(group_steps.map_inputs, group_steps.take_samples, path_distances,
+             group_kernel.update_templates, members.conclude, member_validity.turned)
         width = max(f._zdim for f in self.followers)
         means, starts, lengths, dims, names, owner = [], [], [], [], [], []
         offset = 0

@@ -50,6 +50,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from behaviors.kernel_cache import lazy
+
 _F1 = numba.float64[::1]
 _F2 = numba.float64[:, ::1]
 _I1 = numba.intp[::1]
@@ -70,7 +72,7 @@ def shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes
                          np.ascontiguousarray(sizes, dtype=float), by, int(skip))
 
 
-@numba.njit(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F2, numba.intp), cache=True, nogil=True)
+@lazy(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F2, numba.intp), cache=True, nogil=True)
 def _shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes: np.ndarray,
                   radius: np.ndarray, skip: int) -> np.ndarray:
     """:func:`shared_until` compiled, ``radius`` (K, d) per template ``b``."""

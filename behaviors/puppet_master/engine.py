@@ -25,7 +25,9 @@ from collections import deque
 
 import numpy as np
 
+from behaviors.kernel_cache import load
 from behaviors.puppet_master import features as ft
+from behaviors.puppet_master import search_kernel
 from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.behavior import Behavior, DemonstrationError  # noqa: F401
 from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S,
@@ -68,6 +70,10 @@ class Reactor(GenerationStep):
             raise ParameterError(f"table {table!r} must have x0 < x1 and y0 < y1 (metres)")
         self.behavior = behavior
         self.table = (x0, y0, x1, y1)
+        if self.compiled:   # the kernels an update calls, loaded now: not on the first update
+            load(sk.step, sk.moved_on, search_kernel.situation_reset,
+                 search_kernel.situation_push, search_kernel.coherence_push,
+                 search_kernel.coherence_best)
         # where a target is fitted (table_boundary.fit_target): the table less the demonstrated
         # character's edge margin (Behavior.edge_margin), at most a quarter of its smaller side
         m = min(behavior.edge_margin, 0.25 * min(x1 - x0, y1 - y0))

@@ -1,0 +1,70 @@
+"""Compiled kernels load when an engine that calls them is built: not when their modules are
+imported (``tabletop`` commands, a kiosk's restart), and not on the engine's first step."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+IMPORTED = """
+import json
+import tabletop.cli, tabletop.plugins.puppet_master, tabletop.plugins.mop
+from behaviors import kernel_cache
+from behaviors.mop import follower, group, group_steps, sharing, window_kernel
+from behaviors.puppet_master import engine, search_kernel, step_kernel, step_math
+kernels = (step_kernel.step, step_kernel.moved_on, step_math.hypot, search_kernel.situation_push,
+           window_kernel.step_windows, group_steps.map_inputs, sharing._shared_until)
+print(json.dumps({"pending": len(kernel_cache.PENDING),
+                  "loaded": [k.__name__ for k in kernels if k.signatures]}))
+"""
+
+STEPPED = """
+import json
+import numpy as np
+from behaviors import kernel_cache
+from behaviors.mop.follower import ActionFollower
+from behaviors.mop.group import FollowerGroup
+from behaviors.puppet_master.behavior import Behavior
+from behaviors.puppet_master.engine import Reactor
+from tabletop import library
+stored = library.load_behavior("behaviors/library/lover")
+reactor = Reactor(Behavior.train(stored.demonstration, **stored.parameters), (0, 0, 1.2, 0.8))
+line = np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]
+arc = np.c_[np.linspace(0, 0.3, 30), np.sin(np.linspace(0, 3, 30)) * 0.1]
+followers = [ActionFollower({"line": line}), ActionFollower({"arc": arc})]
+grouped = FollowerGroup([ActionFollower({"line": line}), ActionFollower({"arc": arc})])
+built = set(kernel_cache.PENDING)
+reactor.start(0.0, 0.3, 0.3, 0.0)
+for i in range(1, 90):
+    reactor.update(i / 60, 0.3 + 0.004 * i, 0.3, 0.0)
+    for f in followers:
+        f.step(np.array([0.01 * i, 0.0]))
+    grouped.step([np.array([0.01 * i, 0.0]), np.array([0.01 * i, 0.002 * i])])
+print(json.dumps({"built": len(built), "stepped": len(kernel_cache.PENDING),
+                  "loaded": sorted(k.__name__ for k in built - set(kernel_cache.PENDING))}))
+"""
+
+
+def _run(script: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True,
+                         text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return json.loads(out.stdout.splitlines()[-1])
+
+
+def test_importing_the_engines_and_the_cli_loads_no_kernel():
+    found = _run(IMPORTED)
+    assert found["loaded"] == []
+    # (92 kernels are declared with a signature: 43 of the Puppet Master, 49 of MOP)
+    assert found["pending"] >= 80
+
+
+def test_an_engine_built_loads_the_kernels_its_steps_call_none_on_the_steps():
+    found = _run(STEPPED)
+    assert found["loaded"] == []
+    # what the steps' own kernels call is in their code: most of them never load
+    assert found["stepped"] == found["built"] >= 50
