@@ -90,7 +90,6 @@ import math
 
 import numpy as np
 
-from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE, blocked_run, likeliest_other
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
@@ -216,28 +215,10 @@ class Recognition:
         # (after _restart_here): runs 4/3/7/2/2/3 3/6/4/2/2/2, within 20% unchanged, sized
         # 101-106 still lower on every seed (0.9022 -> 0.8984 on 101), unrelated 104 0.1112 ->
         # 0.1135.
-        # (each template's path misfit first: the barred best's release reads it)
-        self._judge_shape(x, g, new, rests)
-        # a small best kept from driving BLOCKED_SAMPLES in a row is barred while it leads
-        # (blocked); freed once it no longer leads, began anew, or may drive (_gone: as _shares
-        # reads it below). bench/follow_seeds.py --sections=sized,unrelated,sequences: sized
-        # valid after 30% 107-112 0.8919/0.8828/0.8938/0.9066/0.8963/0.8950 ->
-        # 0.8925/0.8851/0.8938/0.9087/0.8989/0.8972 (the getup wrist at 1.4x under the kick's
-        # wrist sized 0.63: 108 0.432 -> 0.659), unrelated worst unchanged, told 109 0.0912 ->
-        # 0.0663, sequences unchanged.
-        barred = self._barred
-        if barred >= 0:
-            np.maximum(self._gone, progress, out=self._gone)
-            if barred != top or new[barred] or not (
-                    self._shares(barred, float(g[barred]), progress)
-                    or self._slow_take(barred, g, x)[0]):
-                self._freed, barred = barred, -1   # (barred at once if blocked again)
-                self._barred = -1
-        if barred >= 0:
-            top = likeliest_other(self._evidence, barred)
         if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
-                or self._refused[self._best] or self._best == barred):
+                or self._refused[self._best]):
             self._best = top
+        self._judge_shape(x, g, new, rests)
         committed = -1   # committed to by shape: best, however improbable (spotting)
         if self.invariance != "none":
             self._add_shape(x, gi, g - gi)
@@ -253,27 +234,16 @@ class Recognition:
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         still = self._still(x)
-        # the probabilities the validity reads: among the templates but a barred best (blocked;
-        # ``top``: the likeliest of them)
-        pv, kept = p, self._kept
-        if barred >= 0 and barred != bi:
-            pv = np.exp(self._evidence - self._evidence[top])
-            pv[barred] = 0.0
-            others = pv.sum()
-            pv /= others
-            if math.isfinite(self.threshold):
-                rival = self._threshold_ev - self._evidence[top]
-                kept = others / (others + math.exp(min(rival, 700.0)))
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
-                  and (pv[bi] * kept >= self.min_probability or committed == bi)
+                  and (p_list[bi] * self._kept >= self.min_probability or committed == bi)
                   and (self._end_x is None or not self._moved_on(x, bi)))
         overran = False
         if self.invariance != "none":
             # each template's highest progress (spotting._shares, shape_lead._broad_rivals)
             np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (shape_lead.LEAD)
-            leads = self._leads(bi, pv * kept, progress)
+            leads = self._leads(bi, p * self._kept, progress)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (validity.slow_take); nor does any action
@@ -293,22 +263,9 @@ class Recognition:
                                                                   self._underway_rested, rests)
             self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
                                                                   self._abandon_rested, rests)
-            shares = self._shares(bi, float(g[bi]), progress)
-            # ... nor one barred since it began (blocked)
-            self._once[new] = False
-            ok = ok and not self._once[bi] and not crawls(self._crawl)
-            ok = ok and not self._drifts(bi) and (
+            ok = ok and not crawls(self._crawl) and not self._drifts(bi) and (
                 self._acquired == bi or (leads and turned and not slow and not back
-                                         and not shares))
-            # (blocked: taken at a crawl at a small size, not driving)
-            blocked = (self._acquired != bi and bool(self._engaged[bi])
-                       and self._size[bi] < BLOCKED_SIZE and self._crawl > 0)
-            self._blocked = blocked_run(self._blocked, bi == self._blocked_k, blocked)
-            self._blocked_k = bi
-            if len(self.names) > 1 and (0 < BLOCKED_SAMPLES <= self._blocked
-                                        or blocked and bi == self._freed):
-                self._barred = bi
-                self._once[bi] = True
+                                         and not self._shares(bi, float(g[bi]), progress)))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
