@@ -215,6 +215,14 @@ class Recognition:
         # (after _restart_here): runs 4/3/7/2/2/3 3/6/4/2/2/2, within 20% unchanged, sized
         # 101-106 still lower on every seed (0.9022 -> 0.8984 on 101), unrelated 104 0.1112 ->
         # 0.1135.
+        # Measured and not kept: a best taken at a crawl below 0.8 size for 4 samples barred
+        # from best while it leads (best the likeliest of the others, validity read among them,
+        # the barred one not driving until it begins anew): held-out sized valid after 30%
+        # 101-106 / 107-112 mean 0.9000 / 0.8944 -> 0.9008 / 0.8960 (the getup wrist at 1.4x
+        # under the kick's wrist sized 0.63: 0.432 -> 0.659), unrelated and sequences unchanged;
+        # but follow_quality tuned sized 0.9124 -> 0.9087, held-out aspect 1.1 0.8674 -> 0.8500,
+        # bent 5% 0.7461 -> 0.7448, after a gesture mean 0.0584 -> 0.0587. Barred for sharing
+        # its start too, or at any size: unrelated worst 107-112 0.1154 -> 0.1484.
         if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
                 or self._refused[self._best]):
             self._best = top
