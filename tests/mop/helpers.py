@@ -19,6 +19,16 @@ def widened_mirrored(seed: int, name: str, scale: float) -> np.ndarray:
     raise KeyError(name)
 
 
+def unrelated_at_1x(templates: dict[str, np.ndarray], name: str, seed: int) -> np.ndarray:
+    """The unrelated motion ``name`` against ``templates`` performed at 1x as the bench draws it
+    for ``seed`` (its 0.7x draw made and dropped first)."""
+    from bench.motions import performance, unrelated_motions
+    rng = np.random.default_rng(seed)
+    path = unrelated_motions(rng, templates)[name]
+    performance(rng, path, 0.7)
+    return performance(rng, path, 1.0)[0]
+
+
 def refused(tmp_path, mutate, *words: str, error: type = None) -> None:
     """The designer config (:func:`tabletop.plugins.mop_table.designer_config`) changed by
     ``mutate`` (given its engine) is refused at build with ``error`` (a ConfigError by default)

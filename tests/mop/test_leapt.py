@@ -7,18 +7,15 @@ import math
 import numpy as np
 
 from bench.follow_quality import gesture_templates, puck_follower, run
-from bench.motions import performance, unrelated_motions
 from behaviors.mop import validity
 from behaviors.mop.group import FollowerGroup
+from tests.mop.helpers import unrelated_at_1x
 
 
 def _wander(seed: int = 32) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """The six gestures and an aimless wander as the bench draws them, at 1x."""
     gestures = gesture_templates()
-    rng = np.random.default_rng(seed)
-    path = unrelated_motions(rng, gestures)["wander"]
-    performance(rng, path, 0.7)
-    return gestures, performance(rng, path, 1.0)[0]
+    return gestures, unrelated_at_1x(gestures, "wander", seed)
 
 
 def test_a_leap_while_not_driving_carries_no_one(monkeypatch):

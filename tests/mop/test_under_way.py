@@ -7,19 +7,16 @@ import math
 import numpy as np
 
 from bench.follow_quality import gesture_templates, puck_follower, run
-from bench.motions import performance, unrelated_motions
 from behaviors.mop import under_way
 from behaviors.mop.group import FollowerGroup
+from tests.mop.helpers import unrelated_at_1x
 
 
 def _spiral_with_the_circle(seed: int = 11) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """The circle alone and a spiral (two turns, the second a loop the circle's way round
     through its start) as the bench draws them, at 1.0x."""
     circle = {"circle": gesture_templates()["circle"]}
-    rng = np.random.default_rng(seed)
-    path = unrelated_motions(rng, circle)["spiral"]
-    performance(rng, path, 0.7)
-    return circle, performance(rng, path, 1.0)[0]
+    return circle, unrelated_at_1x(circle, "spiral", seed)
 
 
 def test_no_action_is_taken_in_an_attempt_abandoned_under_way(monkeypatch):
