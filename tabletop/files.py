@@ -28,6 +28,31 @@ from tabletop.frames import MAX_POSITION_M, InputError
 from tabletop.names import NameTaken, keep_under_free_name  # noqa: F401  (shared layer)
 
 
+class ReadFile(type(Path())):
+    """A file's path (equal to it, as any config path) carrying what the config's load read of
+    it: ``content`` (read-only) and ``read``, the file's signature taken just before
+    (:func:`tabletop.kiosk.watch.tree_signature`; None when not taken), so that a build takes
+    the content without opening the file again. Subclasses name what the content is."""
+
+    content: Any
+    read: tuple | None
+
+    def __reduce__(self) -> tuple:
+        return carrying, (type(self), str(self), self.content, self.read)
+
+    def unchanged(self) -> bool:
+        """Is the file on disk still as it was read (its signature: a stat, no open)?"""
+        from tabletop.kiosk.watch import tree_signature
+        return self.read is not None and tree_signature(self) == self.read
+
+
+def carrying(cls: type[ReadFile], path: str, content: Any, read: tuple | None) -> ReadFile:
+    """A ``cls`` (a :class:`ReadFile`) of ``path`` carrying ``content``, read at ``read``."""
+    f = cls(path)
+    f.content, f.read = content, read
+    return f
+
+
 def format_csv(header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> str:
     """CSV text with ``header``; floats are written with full precision (repr)."""
     buf = io.StringIO()

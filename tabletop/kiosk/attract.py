@@ -65,7 +65,7 @@ def _gesture(template: Path) -> Any:
     from tabletop.plugins.mop_files import Template
     from tabletop.plugins.scripted import gesture_of, read_gesture
     if isinstance(template, Template) and template.unchanged():
-        cols, data, _ = template.table
+        cols, data, _ = template.content
         return gesture_of(template, cols, data) if {"t", "dx", "dy"} <= set(cols) else None
     try:
         return read_gesture(template)

@@ -12,9 +12,9 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import (MAX_CLIP_BYTES, MAX_TEMPLATE_BYTES, FileFormatError, UnreadableText,
-                            check_increasing, check_positions, json_loads, read_csv_lines,
-                            read_text_within)
+from tabletop.files import (MAX_CLIP_BYTES, MAX_TEMPLATE_BYTES, FileFormatError, ReadFile,
+                            UnreadableText, carrying, check_increasing, check_positions,
+                            json_loads, read_csv_lines, read_text_within)
 from tabletop.frames import MAX_FEATURE, InputError
 
 log = logging.getLogger("tabletop")
@@ -92,29 +92,13 @@ MAX_TEMPLATE_S = 3600.0   # seconds an action's template may span (gestures take
 # whose last t was 1e9 was resampled at the engine's rate and stopped the run "out of memory"
 
 
-class Template(type(Path())):
-    """A template CSV's path (equal to it, as any config path) carrying what the config's load
-    read of it: ``table``, its header, rows and the file line of each row (read-only), and
-    ``read``, the file's signature taken just before (:func:`tabletop.kiosk.watch.
-    tree_signature`). :func:`load_template` takes the table while the file's signature is
-    still ``read`` (a stat, no open) and reads a file changed since again."""
+class Template(ReadFile):
+    """A template CSV's path carrying what the config's load read of it (:class:`ReadFile`):
+    ``content``, its header, rows and the file line of each row (read-only).
+    :func:`load_template` takes it while the file is unchanged (a stat, no open) and reads a
+    file changed since again."""
 
-    table: tuple[list[str], np.ndarray, np.ndarray]
-    read: tuple
-
-    def __reduce__(self) -> tuple:
-        return _template, (str(self), self.table, self.read)
-
-    def unchanged(self) -> bool:
-        """Is the file on disk still as it was read (its signature: a stat, no open)?"""
-        from tabletop.kiosk.watch import tree_signature
-        return tree_signature(self) == self.read
-
-
-def _template(path: str, table: tuple, read: tuple) -> Template:
-    t = Template(path)
-    t.table, t.read = table, read
-    return t
+    content: tuple[list[str], np.ndarray, np.ndarray]
 
 
 def _read_table(path: Path) -> tuple[list[str], np.ndarray, np.ndarray]:
@@ -128,7 +112,7 @@ def read_template(path: Path) -> Template:
     header, data, lines = _read_table(path)
     data.setflags(write=False)       # shared by the actions and builds of the config read
     lines.setflags(write=False)
-    return _template(str(path), (header, data, lines), read)
+    return carrying(Template, str(path), (header, data, lines), read)
 
 
 def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
@@ -136,7 +120,7 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
     has a ``t`` column. Raises FileFormatError naming the file. A :class:`Template` unchanged
     on disk since it was read is not read again."""
     if isinstance(path, Template) and path.unchanged():
-        header, data, lines = path.table
+        header, data, lines = path.content
     else:
         header, data, lines = _read_table(path)
     cols = [c for c in header if c != "t"]

@@ -13,7 +13,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.files import MAX_TEMPLATE_BYTES, FileFormatError, read_csv
+from tabletop.files import MAX_TEMPLATE_BYTES, FileFormatError, ReadFile, carrying, read_csv
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
@@ -36,21 +36,12 @@ def check_pucks(options: dict, path: str, ctx: Context) -> None:
             first[pid] = j
 
 
-class Gesture(type(Path())):
-    """A gesture CSV's path (equal to it, as any config path) carrying the ``rows`` read from
-    it when its config was loaded (columns t, dx, dy: s, m, m from the start; read-only), so
+class Gesture(ReadFile):
+    """A gesture CSV's path carrying the rows read from it when its config was loaded
+    (:class:`ReadFile`; ``content``: columns t, dx, dy: s, m, m from the start; read-only), so
     the build takes them without reading the file again."""
 
-    rows: np.ndarray
-
-    def __reduce__(self) -> tuple:
-        return _gesture, (str(self), self.rows)
-
-
-def _gesture(path: str, rows: np.ndarray) -> Gesture:
-    g = Gesture(path)
-    g.rows = rows
-    return g
+    content: np.ndarray
 
 
 def read_gesture(path: str | Path) -> Gesture:
@@ -65,7 +56,7 @@ def gesture_of(path: str | Path, cols: list[str], data: np.ndarray) -> Gesture:
     them) and rows ``data``."""
     rows = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
     rows.setflags(write=False)       # shared by every build of the config it was read for
-    return _gesture(str(path), rows)
+    return carrying(Gesture, str(path), rows, None)
 
 
 class GestureFile(FilePath):
@@ -140,7 +131,7 @@ class ScriptedSource:
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
     performers = {}
     for k, p in enumerate(options["performers"]):
-        gestures = [g.rows if isinstance(g, Gesture) else read_gesture(g).rows
+        gestures = [g.content if isinstance(g, Gesture) else read_gesture(g).content
                     for g in p["gestures"]]
         performers[p["puck"]] = GesturePerformer(gestures,
                                                  tuple(p["home"]),

@@ -61,7 +61,7 @@ def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monk
     cols, data = read_csv(GESTURES / "circle.csv")
     circle = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
     assert np.array_equal(source.performers[2].gestures[1], circle)
-    assert np.array_equal(pickle.loads(pickle.dumps(gestures))[1].rows, circle)
+    assert np.array_equal(pickle.loads(pickle.dumps(gestures))[1].content, circle)
 
 
 def test_attract_takes_the_templates_its_config_load_read(monkeypatch):
@@ -95,7 +95,7 @@ def test_attract_reads_a_template_changed_since_the_config_load(tmp_path, monkey
     assert reads == {"circle.csv": 1}
     cols, data = read_csv(GESTURES / "zigzag.csv")
     zigzag = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
-    assert np.array_equal(performer["gestures"][1].rows, zigzag)
+    assert np.array_equal(performer["gestures"][1].content, zigzag)
 
 
 def test_a_gesture_file_named_by_two_performers_is_read_once(tmp_path, monkeypatch):
