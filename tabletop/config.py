@@ -15,6 +15,7 @@ from tabletop import registry
 from tabletop.config_checks import (check_calibrations, check_marker_ids, check_scripted_pucks,
                                     check_sprites, check_studio_markers)
 from tabletop.config_ports import check_udp_ports
+from tabletop.file_io import file_signature
 from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
                              MapOf, Number, Optional_, Record, Spec, shown)
@@ -200,7 +201,7 @@ class Config(dict):
     the mapping as written; ``base``, the folder its relative paths are relative to; ``refs``,
     the files and folders it names (a recording embeds them, see :mod:`tabletop.bundle`);
     ``read``, the file's signature taken just before it was read
-    (:func:`tabletop.kiosk.watch.file_signature`; None when validated from a mapping)."""
+    (:func:`tabletop.file_io.file_signature`; None when validated from a mapping)."""
 
     def __init__(self, values: dict[str, Any], raw: Any, base: Path, file: str,
                  refs: list[FileRef], read: tuple | None = None) -> None:
@@ -216,7 +217,6 @@ def load_config(path: str | Path, start_without: bool = False) -> Config:
     """Read and validate a config file; returns the config with every default filled in.
     ``start_without``: the files of engines' actions are read by the build, not here
     (:class:`~tabletop.schema.Context`)."""
-    from tabletop.kiosk.watch import file_signature
     p = Path(path)
     read = file_signature(p)     # (the config watcher's first look compares with it)
     data = read_yaml(p, ConfigError, missing="config file not found", max_bytes=MAX_CONFIG_BYTES,

@@ -23,7 +23,7 @@ from tabletop.file_io import (  # noqa: F401  (shared layer)
     MAX_TEMPLATE_BYTES, MAX_TEXT_BYTES, FileFormatError, UnreadableText, alive,
     atomic_write_bytes, atomic_write_text, atomic_writer, file_on_path, folder_failure,
     fsync_folder, is_stream, json_loads, new_folder, read_regular_bytes, read_text,
-    read_text_within, write_synced)
+    read_text_within, tree_signature, write_synced)
 from tabletop.frames import MAX_POSITION_M, InputError
 from tabletop.names import NameTaken, keep_under_free_name  # noqa: F401  (shared layer)
 
@@ -31,7 +31,7 @@ from tabletop.names import NameTaken, keep_under_free_name  # noqa: F401  (share
 class ReadFile(type(Path())):
     """A file's path (equal to it, as any config path) carrying what the config's load read of
     it: ``content`` (read-only) and ``read``, the file's signature taken just before
-    (:func:`tabletop.kiosk.watch.tree_signature`; None when not taken), so that a build takes
+    (:func:`~tabletop.file_io.tree_signature`; None when not taken), so that a build takes
     the content without opening the file again. Subclasses name what the content is."""
 
     content: Any
@@ -42,7 +42,6 @@ class ReadFile(type(Path())):
 
     def unchanged(self) -> bool:
         """Is the file on disk still as it was read (its signature: a stat, no open)?"""
-        from tabletop.kiosk.watch import tree_signature
         return self.read is not None and tree_signature(self) == self.read
 
 

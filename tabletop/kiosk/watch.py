@@ -14,47 +14,15 @@ applies the edit.
 from __future__ import annotations
 
 import logging
-import os
 import time
 from pathlib import Path
 from typing import Any, Callable
 
 from behaviors.worker import Worker
+from tabletop.file_io import file_signature, tree_signature  # noqa: F401  (watched files)
 from tabletop.frames import Frame, InputError
 
 log = logging.getLogger("tabletop")
-
-
-def tree_signature(path: Path) -> tuple:
-    """(relative name, mtime ns, size) of a file, or of every file below a folder (hidden
-    names skipped); changes whenever any of them is written, renamed or removed."""
-    out = []
-    try:
-        if path.is_file():
-            st = path.stat()
-            return ((path.name, st.st_mtime_ns, st.st_size),)
-        for root, dirs, files in os.walk(path):
-            dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-            for f in sorted(files):
-                if f.startswith("."):
-                    continue
-                p = Path(root) / f
-                try:
-                    st = p.stat()
-                except OSError:
-                    continue
-                out.append((str(p.relative_to(path)), st.st_mtime_ns, st.st_size))
-    except OSError:
-        return ()
-    return tuple(out)
-
-
-def file_signature(path: Path) -> tuple:
-    """:func:`tree_signature` and what ``path`` is (file, folder or nothing): a config file
-    removed and then replaced by an empty folder changes it (the tree signature alone is
-    ``()`` for both, and the kiosk would keep saying "config file not found" of a folder)."""
-    kind = "file" if path.is_file() else "folder" if path.is_dir() else None
-    return (kind, tree_signature(path))
 
 
 class Poller:

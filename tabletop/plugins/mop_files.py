@@ -14,7 +14,7 @@ from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
 from tabletop.files import (MAX_CLIP_BYTES, MAX_TEMPLATE_BYTES, FileFormatError, ReadFile,
                             UnreadableText, carrying, check_increasing, check_positions,
-                            json_loads, read_csv_lines, read_text_within)
+                            json_loads, read_csv_lines, read_text_within, tree_signature)
 from tabletop.frames import MAX_FEATURE, InputError
 
 log = logging.getLogger("tabletop")
@@ -107,7 +107,6 @@ def _read_table(path: Path) -> tuple[list[str], np.ndarray, np.ndarray]:
 
 def read_template(path: Path) -> Template:
     """A template CSV read (FileFormatError naming the file), for :func:`load_template`."""
-    from tabletop.kiosk.watch import tree_signature
     read = tree_signature(path)
     header, data, lines = _read_table(path)
     data.setflags(write=False)       # shared by the actions and builds of the config read
@@ -216,7 +215,6 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
     else MopError names both sets (a carried file missing or damaged: the replay would differ
     from the run). ``signed``, when given, receives each action's signature (by name), taken
     before it was read (:func:`action_entries`)."""
-    from tabletop.kiosk.watch import tree_signature
     actions, tmpl, missing = [], {}, []
     for a in character["actions"]:
         read = tuple(map(tree_signature, action_files(a, loader.base))) \
