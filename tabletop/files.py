@@ -52,6 +52,39 @@ def carrying(cls: type[ReadFile], path: str, content: Any, read: tuple | None) -
     return f
 
 
+class Table(ReadFile):
+    """A numeric CSV's path carrying what :func:`read_table` read of it: ``content``, its
+    header, rows and the file line of each row (read-only)."""
+
+    content: tuple[list[str], np.ndarray, np.ndarray]
+
+
+def read_table(path: Path, what: str, required: Sequence[str] = (), min_rows: int = 1,
+               max_bytes: int = MAX_TEXT_BYTES, cls: type[Table] = Table) -> Table:
+    """A CSV read (:func:`read_csv_lines`, FileFormatError naming the file) into a ``cls``
+    carrying its table and the :func:`tree_signature` taken just before the read."""
+    read = tree_signature(Path(path))
+    header, data, lines = read_csv_lines(path, required, what, min_rows, max_bytes)
+    data.setflags(write=False)       # shared by every reader and build of the config read
+    lines.setflags(write=False)
+    return carrying(cls, str(path), (header, data, lines), read)
+
+
+def read_shared(read: dict, path: Path, what: str, required: Sequence[str] = (),
+                min_rows: int = 1, max_bytes: int = MAX_TEXT_BYTES) -> Table:
+    """The table of the CSV ``path`` from ``read`` (a config load's files read, by (kind,
+    path): :class:`tabletop.schema.Context`), read once for every reader of the load asking
+    with the same ``min_rows`` and ``max_bytes`` (a MOP template that is also a scripted
+    gesture: examples/mop.yaml 12 CSV parses per load -> 6). A table lacking the ``required``
+    columns is read again, so its refusal names ``what`` and those columns."""
+    key = ("csv", Path(path), min_rows, max_bytes)
+    table = read.get(key)
+    if table is None or not set(required) <= set(table.content[0]):
+        table = read_table(path, what, required, min_rows, max_bytes)
+        read.setdefault(key, table)
+    return table
+
+
 def format_csv(header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> str:
     """CSV text with ``header``; floats are written with full precision (repr)."""
     buf = io.StringIO()

@@ -85,7 +85,7 @@ class Context:
     errors: list[ConfigError] = field(default_factory=list, compare=False)
     # what the specs read of files while validating, by (kind, path): a file named by several
     # keys is read once
-    read: dict[tuple[str, Path], Any] = field(default_factory=dict, compare=False)
+    read: dict[tuple, Any] = field(default_factory=dict, compare=False)
 
     def error(self, path: str, message: str) -> ConfigError:
         at = f"{path or '<top>'}: {message}"

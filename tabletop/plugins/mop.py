@@ -286,10 +286,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             try:    # its columns, times and span, at load: the key is named, not only the file
                 # (load_config of examples/mop.yaml 20 -> 30 ms, mean of 5 on a loaded machine);
                 # read once however many actions name it, the build takes what was read
-                key = ("template", Path(a["template"]))
-                if key not in ctx.read:
-                    ctx.read[key] = read_template(key[1])
-                a["template"] = ctx.read[key]
+                a["template"] = read_template(Path(a["template"]), ctx.read)
                 load_template(a["template"], features[a["performer"] or c["performer"]],
                               cfg["rate_hz"])
             except FileFormatError as exc:

@@ -12,9 +12,10 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import (MAX_CLIP_BYTES, MAX_TEMPLATE_BYTES, FileFormatError, ReadFile,
+from tabletop.files import (MAX_CLIP_BYTES, MAX_TEMPLATE_BYTES, FileFormatError, Table,
                             UnreadableText, carrying, check_increasing, check_positions,
-                            json_loads, read_csv_lines, read_text_within, tree_signature)
+                            json_loads, read_shared, read_table,
+                            read_text_within, tree_signature)
 from tabletop.frames import MAX_FEATURE, InputError
 
 log = logging.getLogger("tabletop")
@@ -92,26 +93,20 @@ MAX_TEMPLATE_S = 3600.0   # seconds an action's template may span (gestures take
 # whose last t was 1e9 was resampled at the engine's rate and stopped the run "out of memory"
 
 
-class Template(ReadFile):
-    """A template CSV's path carrying what the config's load read of it (:class:`ReadFile`):
-    ``content``, its header, rows and the file line of each row (read-only).
-    :func:`load_template` takes it while the file is unchanged (a stat, no open) and reads a
-    file changed since again."""
-
-    content: tuple[list[str], np.ndarray, np.ndarray]
+class Template(Table):
+    """A template CSV's path carrying what the config's load read of it (:class:`Table`:
+    its header, rows and the file line of each row, read-only). :func:`load_template` takes
+    it while the file is unchanged (a stat, no open) and reads a file changed since again."""
 
 
-def _read_table(path: Path) -> tuple[list[str], np.ndarray, np.ndarray]:
-    return read_csv_lines(path, what="template CSV", min_rows=2, max_bytes=MAX_TEMPLATE_BYTES)
-
-
-def read_template(path: Path) -> Template:
-    """A template CSV read (FileFormatError naming the file), for :func:`load_template`."""
-    read = tree_signature(path)
-    header, data, lines = _read_table(path)
-    data.setflags(write=False)       # shared by the actions and builds of the config read
-    lines.setflags(write=False)
-    return carrying(Template, str(path), (header, data, lines), read)
+def read_template(path: Path, read: dict | None = None) -> Template:
+    """A template CSV read (FileFormatError naming the file), for :func:`load_template`;
+    ``read``: the config load's files read (:func:`tabletop.files.read_shared`: a template
+    that is also a gesture CSV is read once)."""
+    if read is None:
+        return read_table(path, "template CSV", (), 2, MAX_TEMPLATE_BYTES, Template)
+    t = read_shared(read, path, "template CSV", (), 2, MAX_TEMPLATE_BYTES)
+    return t if isinstance(t, Template) else carrying(Template, str(t), t.content, t.read)
 
 
 def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
@@ -121,7 +116,7 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
     if isinstance(path, Template) and path.unchanged():
         header, data, lines = path.content
     else:
-        header, data, lines = _read_table(path)
+        header, data, lines = read_template(path).content
     cols = [c for c in header if c != "t"]
     if sorted(cols) != sorted(names):
         raise FileFormatError(f"{path}: template columns {','.join(cols)} do not match the "

@@ -13,7 +13,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.files import MAX_TEMPLATE_BYTES, FileFormatError, ReadFile, carrying, read_csv
+from tabletop.files import (MAX_TEMPLATE_BYTES, FileFormatError, ReadFile, carrying, read_csv,
+                            read_shared)
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
@@ -70,10 +71,12 @@ class GestureFile(FilePath):
         p = super().validate(value, path, ctx)
         key = ("gesture", p)     # (examples/mop.yaml's two performers: 11 keys, 6 files)
         if key not in ctx.read:
-            try:
-                ctx.read[key] = read_gesture(p)
+            try:    # (read once with the MOP templates that name the same file)
+                table = read_shared(ctx.read, p, "gesture CSV", ("t", "dx", "dy"), 2,
+                                    MAX_TEMPLATE_BYTES)
             except FileFormatError as exc:
                 raise ctx.error(path, str(exc)) from None
+            ctx.read[key] = gesture_of(p, *table.content[:2])
         return ctx.read[key]
 
 

@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from tabletop.config import validate_config
-from tabletop.plugins import mop, mop_files
+from tabletop import files
+from tabletop.plugins import mop
 from tabletop.plugins.mop_files import load_template
 from tabletop.plugins.mop_table import EXAMPLES, RATE
 from tabletop.registry import BuildContext
@@ -33,7 +34,7 @@ def _data() -> dict:
 
 
 def _counting_reads(monkeypatch) -> Counter:
-    return counting_reads(monkeypatch, mop_files, "read_csv_lines")
+    return counting_reads(monkeypatch, files, "read_csv_lines")
 
 
 def _load(tmp_path: Path):

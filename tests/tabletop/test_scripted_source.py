@@ -14,6 +14,7 @@ import pytest
 from tabletop.config import load_config
 from tabletop.files import read_csv
 from tabletop.kiosk.attract import attract_performers
+from tabletop import files
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
@@ -39,7 +40,7 @@ def test_a_damaged_gesture_file_is_refused_naming_its_key(tmp_path):
 
 
 def _counting_reads(monkeypatch) -> Counter:
-    return counting_reads(monkeypatch, scripted, "read_csv")
+    return counting_reads(monkeypatch, files, "read_csv_lines")
 
 
 def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monkeypatch):
@@ -108,3 +109,20 @@ def test_a_gesture_file_named_by_two_performers_is_read_once(tmp_path, monkeypat
     cfg = load_config(cfg_path)
     assert reads == {"circle.csv": 1}
     assert load_config(cfg_path) == cfg
+
+
+def test_a_gesture_file_that_is_also_a_template_is_read_once_per_load(monkeypatch):
+    """examples/mop.yaml: the scripted performers draw the MOP templates' own files (each was
+    read twice, by each reader)."""
+    reads = counting_reads(monkeypatch, files, "read_text_within")     # (every CSV's text)
+    cfg = load_config(ROOT / "examples" / "mop.yaml")
+    names = {"circle.csv", "zigzag.csv", "figure_eight.csv", "line.csv", "wave.csv",
+             "square.csv"}
+    assert reads == {"mop.yaml": 1, **{name: 1 for name in names}}
+    performer = cfg["sources"][0]["performers"][0]
+    template = cfg["engines"][0]["characters"][0]["actions"][0]["template"]
+    assert template.name == "circle.csv" and template.unchanged()
+    cols, data = read_csv(GESTURES / "circle.csv")
+    assert np.array_equal(template.content[1], data)
+    assert np.array_equal(performer["gestures"][0].content,
+                          data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]])
