@@ -66,7 +66,8 @@ def _gesture(template: Path) -> Any:
     from tabletop.plugins.scripted import gesture_of, read_gesture
     if isinstance(template, Template) and template.unchanged():
         cols, data, _ = template.content
-        return gesture_of(template, cols, data) if {"t", "dx", "dy"} <= set(cols) else None
+        return (gesture_of(template, cols, data, template.read)
+                if {"t", "dx", "dy"} <= set(cols) else None)
     try:
         return read_gesture(template)
     except FileFormatError:

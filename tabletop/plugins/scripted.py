@@ -13,8 +13,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.files import (MAX_TEMPLATE_BYTES, FileFormatError, ReadFile, carrying, read_csv,
-                            read_shared)
+from tabletop.files import (MAX_TEMPLATE_BYTES, FileFormatError, ReadFile, carrying,
+                            read_shared, read_table)
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
@@ -40,24 +40,24 @@ def check_pucks(options: dict, path: str, ctx: Context) -> None:
 class Gesture(ReadFile):
     """A gesture CSV's path carrying the rows read from it when its config was loaded
     (:class:`ReadFile`; ``content``: columns t, dx, dy: s, m, m from the start; read-only), so
-    the build takes them without reading the file again."""
+    the build takes them without reading the file again while it is unchanged."""
 
     content: np.ndarray
 
 
 def read_gesture(path: str | Path) -> Gesture:
     """A gesture CSV (columns ``t,dx,dy`` among others, at least two rows) read."""
-    cols, data = read_csv(path, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2,
-                          max_bytes=MAX_TEMPLATE_BYTES)
-    return gesture_of(path, cols, data)
+    table = read_table(Path(path), "gesture CSV", ("t", "dx", "dy"), 2, MAX_TEMPLATE_BYTES)
+    return gesture_of(path, *table.content[:2], table.read)
 
 
-def gesture_of(path: str | Path, cols: list[str], data: np.ndarray) -> Gesture:
-    """The :class:`Gesture` of a CSV read from ``path``: its columns ``cols`` (t, dx, dy among
-    them) and rows ``data``."""
+def gesture_of(path: str | Path, cols: list[str], data: np.ndarray,
+               read: tuple | None = None) -> Gesture:
+    """The :class:`Gesture` of a CSV read from ``path`` (``read``: the file's signature taken
+    before): its columns ``cols`` (t, dx, dy among them) and rows ``data``."""
     rows = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
     rows.setflags(write=False)       # shared by every build of the config it was read for
-    return carrying(Gesture, str(path), rows, None)
+    return carrying(Gesture, str(path), rows, read)
 
 
 class GestureFile(FilePath):
@@ -76,7 +76,7 @@ class GestureFile(FilePath):
                                     MAX_TEMPLATE_BYTES)
             except FileFormatError as exc:
                 raise ctx.error(path, str(exc)) from None
-            ctx.read[key] = gesture_of(p, *table.content[:2])
+            ctx.read[key] = gesture_of(p, *table.content[:2], table.read)
         return ctx.read[key]
 
 
@@ -134,8 +134,10 @@ class ScriptedSource:
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
     performers = {}
     for k, p in enumerate(options["performers"]):
-        gestures = [g.content if isinstance(g, Gesture) else read_gesture(g).content
-                    for g in p["gestures"]]
+        # the rows the config's load read, unless the file changed since (saved while the
+        # installation started): then as it is now, as a MOP template is
+        gestures = [g.content if isinstance(g, Gesture) and g.unchanged()
+                    else read_gesture(g).content for g in p["gestures"]]
         performers[p["puck"]] = GesturePerformer(gestures,
                                                  tuple(p["home"]),
                                                  seed=options["seed"] * 31 + k,

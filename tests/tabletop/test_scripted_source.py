@@ -126,3 +126,22 @@ def test_a_gesture_file_that_is_also_a_template_is_read_once_per_load(monkeypatc
     assert np.array_equal(template.content[1], data)
     assert np.array_equal(performer["gestures"][0].content,
                           data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]])
+
+
+def test_a_gesture_changed_since_the_load_is_read_again_by_the_build(tmp_path, monkeypatch):
+    """A curator saves a gesture file while the installation starts (after its config was
+    loaded, before the build): the performer draws the file as saved, as the MOP engine
+    follows a template changed in that window."""
+    for name in ("line.csv", "circle.csv"):
+        shutil.copy(GESTURES / name, tmp_path / name)
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
+                        "      - {puck: 2, home: [0.5, 0.4], gestures: [line.csv, circle.csv]}\n")
+    cfg = load_config(cfg_path)
+    shutil.copy(GESTURES / "zigzag.csv", tmp_path / "circle.csv")      # saved meanwhile
+    reads = _counting_reads(monkeypatch)
+    source = scripted.build(cfg["sources"][0], BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    assert reads == {"circle.csv": 1}
+    cols, data = read_csv(GESTURES / "zigzag.csv")
+    zigzag = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert np.array_equal(source.performers[2].gestures[1], zigzag)
