@@ -43,12 +43,18 @@ def _counting_reads(monkeypatch) -> Counter:
     return counting_reads(monkeypatch, files, "read_csv_lines")
 
 
-def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monkeypatch):
+def _line_and_circle(tmp_path: Path) -> Path:
+    """A config whose performer draws copies of line.csv and circle.csv in ``tmp_path``."""
     for name in ("line.csv", "circle.csv"):
         shutil.copy(GESTURES / name, tmp_path / name)
     cfg_path = tmp_path / "config.yaml"
     cfg_path.write_text("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
                         "      - {puck: 2, home: [0.5, 0.4], gestures: [line.csv, circle.csv]}\n")
+    return cfg_path
+
+
+def test_each_gesture_file_is_read_once_from_config_load_to_build(tmp_path, monkeypatch):
+    cfg_path = _line_and_circle(tmp_path)
     reads = _counting_reads(monkeypatch)
     cfg = load_config(cfg_path)
     options = cfg["sources"][0]
@@ -132,11 +138,7 @@ def test_a_gesture_changed_since_the_load_is_read_again_by_the_build(tmp_path, m
     """A curator saves a gesture file while the installation starts (after its config was
     loaded, before the build): the performer draws the file as saved, as the MOP engine
     follows a template changed in that window."""
-    for name in ("line.csv", "circle.csv"):
-        shutil.copy(GESTURES / name, tmp_path / name)
-    cfg_path = tmp_path / "config.yaml"
-    cfg_path.write_text("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
-                        "      - {puck: 2, home: [0.5, 0.4], gestures: [line.csv, circle.csv]}\n")
+    cfg_path = _line_and_circle(tmp_path)
     cfg = load_config(cfg_path)
     shutil.copy(GESTURES / "zigzag.csv", tmp_path / "circle.csv")      # saved meanwhile
     reads = _counting_reads(monkeypatch)
