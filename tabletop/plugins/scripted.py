@@ -7,6 +7,7 @@ test action following without a person at the table.
 
 from __future__ import annotations
 
+import logging
 import time
 from pathlib import Path
 from typing import Any, Callable
@@ -19,6 +20,8 @@ from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
+
+log = logging.getLogger("tabletop")
 
 
 def check_pucks(options: dict, path: str, ctx: Context) -> None:
@@ -131,13 +134,25 @@ class ScriptedSource:
         pass
 
 
+def _rows(g: Path) -> np.ndarray:
+    """The rows of gesture ``g`` its config's load read, unless the file changed since (saved
+    while the installation started): then as it is now, as a MOP template is; a file gone bad
+    meanwhile is said and the rows read before are drawn."""
+    if isinstance(g, Gesture) and g.unchanged():
+        return g.content
+    try:
+        return read_gesture(g).content
+    except FileFormatError as exc:
+        if not isinstance(g, Gesture):
+            raise
+        log.warning("%s; drawing the gesture as it was read before", exc)
+        return g.content
+
+
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
     performers = {}
     for k, p in enumerate(options["performers"]):
-        # the rows the config's load read, unless the file changed since (saved while the
-        # installation started): then as it is now, as a MOP template is
-        gestures = [g.content if isinstance(g, Gesture) and g.unchanged()
-                    else read_gesture(g).content for g in p["gestures"]]
+        gestures = [_rows(g) for g in p["gestures"]]
         performers[p["puck"]] = GesturePerformer(gestures,
                                                  tuple(p["home"]),
                                                  seed=options["seed"] * 31 + k,

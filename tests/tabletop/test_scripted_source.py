@@ -147,3 +147,17 @@ def test_a_gesture_changed_since_the_load_is_read_again_by_the_build(tmp_path, m
     cols, data = read_csv(GESTURES / "zigzag.csv")
     zigzag = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
     assert np.array_equal(source.performers[2].gestures[1], zigzag)
+
+
+def test_a_gesture_gone_bad_since_the_load_is_drawn_as_read_then(tmp_path, caplog):
+    """A gesture file cut short between the config's load and the build: the start goes on
+    with the rows read at the load, and says why."""
+    cfg_path = _line_and_circle(tmp_path)
+    cfg = load_config(cfg_path)
+    text = (GESTURES / "circle.csv").read_text()
+    (tmp_path / "circle.csv").write_text(text[:-7])        # cut inside its last value
+    source = scripted.build(cfg["sources"][0], BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    cols, data = read_csv(GESTURES / "circle.csv")
+    circle = data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+    assert np.array_equal(source.performers[2].gestures[1], circle)
+    assert "circle.csv" in caplog.text and "as it was read before" in caplog.text
