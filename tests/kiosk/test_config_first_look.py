@@ -95,3 +95,21 @@ def test_a_changed_file_is_validated_off_the_loop_thread(tmp_path):
         assert w.refused == 1 and "loop.rate_hz" in w.error and len(threads) == 2
     finally:
         w.close()
+
+
+def test_a_save_between_the_load_and_the_first_look_is_applied(tmp_path, monkeypatch):
+    """A curator saves config.yaml while the kiosk starts: after its config was loaded, before
+    the watcher's first look (the build between them takes seconds)."""
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    cfg = load_config(path)
+    path.write_text(yaml.safe_dump(config([200, 100, 50])))     # saved meanwhile
+    applied = []
+
+    def first_look(self, seconds):
+        self.watcher()
+        self.watcher.wait()
+    monkeypatch.setattr(Runner, "_run_loops", first_look)
+    monkeypatch.setattr(Runner, "_apply", lambda self, c: applied.append(c))
+    Runner(path, cfg, headless=True, kiosk=True).run()
+    assert [c["engines"][0]["color"] for c in applied] == [[200, 100, 50]]
