@@ -155,6 +155,15 @@ class StepDetail(StepSenses):
             # 0.2-0.5% of the steps: the re-matching's spread); on slow paths it acts on 2-4% of
             # the steps and moves their walk by -0.003 to +0.007 m/s (seeds 2, 3, 44, 48). Only
             # within 1 s of a stand (the 0.5 s read): 15 (2) / 35 (9) / 30 (7). Not kept.
+            # Over the 18 slow paths of seeds 0-5, 40-51 its walk is short 0.25-2 s after its
+            # main sets off (0.103-0.106 m/s against its designer's 0.111-0.114; over 0.15 m/s on
+            # 16-17% of those steps against 21-23%) and keeps 4-6 mm farther from its main
+            # (0.126-0.134 m against 0.120-0.129), 9 mm later; from 2 s on it walks 0.101 /
+            # 0.091 against 0.102 / 0.090. Measured as above: Params.half_life 10 / 20 samples
+            # (the match leaves a stand sooner) 18 (4) / 36 (10), 14 (1) / 29 (6) / 30 (6), three
+            # runs on 0-5 and 40-51 139 (27) against 122 (22); the cap raised by 2 / 4 per second
+            # x the live distance beyond the moment's within 2 s of a stand (the 0.5 s read: it
+            # also reads the fast paths' reversals) 18 (2) / 38 (8), 18 (3) / 36 (7). Not kept.
             # This keeper beside a standing main at main-frame places too, the lover alone, Python
             # step, one run, its misses (the engine's) on seeds 0-5 / 40-51 / 128-139 / 300-311
             # against 15 (2) / 29 (6) / 28 (5) / 25 (9): 13 (1) / 30 (7) / 30 (5) / 22 (4) (three
