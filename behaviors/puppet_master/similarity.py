@@ -68,7 +68,10 @@ the drift correction 0.022), where the demonstration beside its standing main ci
 0.111: the re-matching keeps a sense the demonstration reverses. Lowering the standing part
 lowers the figure further under its band; the walking part is the paths' (its designer 0.401
 against 0.545). The stand cap after the smooth (step_detail.py) moves them 0.189 -> 0.213 and
-0.369 -> 0.352.
+0.369 -> 0.352. The own step round the main halved at moments whose main stood beside a
+standing main (the lover alone, misses (the engine's) on seeds 0-5 / 40-51 against 15 (2) / 29
+(6)): 0.189 -> 0.173, 17 (3) / 34 (7) (its still pace falls: fast and loops still/moving
+under). Not kept.
 """
 
 from __future__ import annotations
