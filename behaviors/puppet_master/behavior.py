@@ -169,7 +169,9 @@ class Behavior:
             # pace on the loops of seeds 0, 1, 40, 42 0.042-0.053 -> 0.038-0.043 m/s); with the
             # stand cap after the smooth (step_detail.py) 17 (4) / 25 (7) / 29 (6); with the step
             # at moments whose main stood held to at least the still pace beside a standing main
-            # 16 (3) / 26 (8) / 28 (7) (loops still/moving still under). Not kept.
+            # 16 (3) / 26 (8) / 28 (7) (loops still/moving still under); with the straightness
+            # keeper at main-frame places beside a standing main too (step_detail.py) 16 (2) / 26
+            # (8) / 23 (6), three runs 132 (36). Not kept.
             # For the bully too (Behavior.charging; since_push in place), five runs with the
             # share x 1, 1 +- 0.001, 1 +- 0.002 on those seeds: its misses 55 (32 the engine's)
             # -> 64 (46), contact 4 -> 15, its slow paths' still/moving mean 0.95 -> 1.09.
