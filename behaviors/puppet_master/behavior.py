@@ -161,6 +161,17 @@ class Behavior:
             # 344 / 346 / 339 -> 352 / 355 / 368 met of 432, the engine's 11 / 8 / 11 -> 6 / 4
             # / 2. For every character 1972 / 72 (the playful friend 11 -> 18 misses, the
             # lover 38 -> 43, the bully 21 -> 17); for the lover too 1975 / 69 (38 -> 43).
+            # Again for the lover (its matches beside a standing main lag to walked moments,
+            # two thirds of them: similarity.py), alone, Python step, misses (the engine's) on
+            # seeds 0-5 / 40-51 / 128-139 against 15 (2) / 29 (6) / 28 (5): 17 (3) / 26 (6) / 24
+            # (5); relative_motion x 1, 1 +- 0.001 on 0-5, 40-51 133 (30) against 122 (22): slow
+            # orbit 17 -> 8 (0.333 -> 0.344 rad/s), fast and loops still/moving 11 -> 30 (still
+            # pace on the loops of seeds 0, 1, 40, 42 0.042-0.053 -> 0.038-0.043 m/s); with the
+            # stand cap after the smooth (step_detail.py) 17 (4) / 25 (7) / 29 (6); with the step
+            # at moments whose main stood held to at least the still pace beside a standing main
+            # 16 (3) / 26 (8) / 28 (7) (loops still/moving still under); with the straightness
+            # keeper at main-frame places beside a standing main too (step_detail.py) 16 (2) / 26
+            # (8) / 23 (6), three runs 132 (36). Not kept.
             # For the bully too (Behavior.charging; since_push in place), five runs with the
             # share x 1, 1 +- 0.001, 1 +- 0.002 on those seeds: its misses 55 (32 the engine's)
             # -> 64 (46), contact 4 -> 15, its slow paths' still/moving mean 0.95 -> 1.09.

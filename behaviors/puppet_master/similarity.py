@@ -55,6 +55,23 @@ searches, 0.5: 663 (15) / 1309 (35) / 1338 (20) / 1319 (24), 45 (1) / 85 (7) / 9
 searches, 1: 130 (3) / 258 (10) / 268 (4) / 270 (7); the sense alone 130 (1) / 261 (7) / 262
 (4) / 264 (11). None kept: each raised the engine's misses on at least one set. The orbit is
 lost between the matched moment and the raw step (step.py _trajectory), not in the match.
+
+The lover's slow-path orbit meets its designer's (18 slow paths of seeds 0-5, 40-51: 0.333
+against 0.326 rad/s, shown 0.457) by two errors cancelling; by the main's state at the 1 s
+window's centre (still / walking): generated 0.189 / 0.369, its designer 0.088 / 0.401, shown
+0.110 / 0.545. Beside a standing main (Python step) two thirds of the matched moments are
+ones whose demonstrated main walked (the window's lag; shown they circle at 0.514; in seconds
+still throughout the still cap holds the raw step to 0.139). In such seconds matched for four
+fifths or more to moments whose main stood (14% of them) 1 s of those moments' own steps round
+the main (u_tan) circles at 0.214 and the raw step at 0.275 (the main's carried step 0.004,
+the drift correction 0.022), where the demonstration beside its standing main circles at
+0.111: the re-matching keeps a sense the demonstration reverses. Lowering the standing part
+lowers the figure further under its band; the walking part is the paths' (its designer 0.401
+against 0.545). The stand cap after the smooth (step_detail.py) moves them 0.189 -> 0.213 and
+0.369 -> 0.352. The own step round the main halved at moments whose main stood beside a
+standing main (the lover alone, misses (the engine's) on seeds 0-5 / 40-51 against 15 (2) / 29
+(6)): 0.189 -> 0.173, 17 (3) / 34 (7) (its still pace falls: fast and loops still/moving
+under). Not kept.
 """
 
 from __future__ import annotations

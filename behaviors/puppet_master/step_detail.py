@@ -138,6 +138,32 @@ class StepDetail(StepSenses):
             # 0.001) 265 (61) against 276 (62): its slow-path speed misses 56 (20) -> 37 (7), fast
             # and loops still/moving 35 -> 15, but slow still/moving 29 -> 42, slow orbit 36 -> 43,
             # loops speed 19 -> 30, seeds 40-51 80 -> 82. Not kept.
+            # A walk's start (slow paths of seeds 2, 3, 42, 44, 46, 47, the bench's moving read's
+            # first 0.125 s): the match sits on moments whose demonstrated main stood on 17-36% of
+            # the steps (0.125-0.25 s in 13-29%), where the lover went along with none of its
+            # main's step (share k: median 0.00 there, 0.66 where its main walked) at the moment's
+            # pace (median 0.058 m/s, 0.118 walked); it goes 0.052-0.074 m/s against its
+            # designer's 0.056-0.079, then 0.070-0.101 against 0.080-0.109. Measured, the lover
+            # alone, Python step, one run, its misses (the engine's) on seeds 0-5 / 40-51 /
+            # 128-139 against 15 (2) / 29 (6) / 28 (5), at such moments while the live main moved
+            # over 1 cm in 0.2 s: the cap at least its median walking pace (0.116 m/s) 14 (3) / 33
+            # (8); k at least the walked median and the cap the moment's pace plus that carried
+            # step 12 (2) / 30 (7); that only while the live main steps no faster than the
+            # demonstrated main's median walk (0.119 m/s) 11 (0) / 29 (6) / 27 (6), but with
+            # relative_motion x 1, 1 +- 0.001 on 0-5 and 40-51 122 (21) against 122 (22): slow
+            # paths 58 -> 51, fast and loops still/moving 11 -> 18 (on fast paths it acts on
+            # 0.2-0.5% of the steps: the re-matching's spread); on slow paths it acts on 2-4% of
+            # the steps and moves their walk by -0.003 to +0.007 m/s (seeds 2, 3, 44, 48). Only
+            # within 1 s of a stand (the 0.5 s read): 15 (2) / 35 (9) / 30 (7). Not kept.
+            # Over the 18 slow paths of seeds 0-5, 40-51 its walk is short 0.25-2 s after its
+            # main sets off (0.103-0.106 m/s against its designer's 0.111-0.114; over 0.15 m/s on
+            # 16-17% of those steps against 21-23%) and keeps 4-6 mm farther from its main
+            # (0.126-0.134 m against 0.120-0.129), 9 mm later; from 2 s on it walks 0.101 /
+            # 0.091 against 0.102 / 0.090. Measured as above: Params.half_life 10 / 20 samples
+            # (the match leaves a stand sooner) 18 (4) / 36 (10), 14 (1) / 29 (6) / 30 (6), three
+            # runs on 0-5 and 40-51 139 (27) against 122 (22); the cap raised by 2 / 4 per second
+            # x the live distance beyond the moment's within 2 s of a stand (the 0.5 s read: it
+            # also reads the fast paths' reversals) 18 (2) / 38 (8), 18 (3) / 36 (7). Not kept.
             # This keeper beside a standing main at main-frame places too, the lover alone, Python
             # step, one run, its misses (the engine's) on seeds 0-5 / 40-51 / 128-139 / 300-311
             # against 15 (2) / 29 (6) / 28 (5) / 25 (9): 13 (1) / 30 (7) / 30 (5) / 22 (4) (three
