@@ -151,7 +151,7 @@ def _moments(x: np.ndarray, n: int) -> tuple[float, float, float]:
     return m0, m1, m2
 
 
-# compiled when imported (or loaded from the cache beside this file), not at the first step;
+# loaded from its cache (or compiled) when a follower or group is built, not at its first step;
 # without numba's reference counts (``_nrt=False``; its working windows passed in as
 # ``scratch``): each template's row views (``z[j]``, ``a[j]``, ``b[j]``) took a locked increment
 # and decrement. DESIGN's group tick, thread time p10 in alternating processes at load 20-27:

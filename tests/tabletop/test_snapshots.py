@@ -309,7 +309,8 @@ def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_pa
     top_left[:640, :360] = True
     for shown, snapshot in saved:
         panel = (shown != snapshot).any(axis=2)           # (x, y): where the panel was drawn
-        drawn = np.abs(shown.astype(int) - bare).sum(axis=2) > 30   # characters, pucks, glows
+        # characters, pucks, glows (int16: a channel's difference within +-255, a sum's 765)
+        drawn = np.abs(shown.astype(np.int16) - bare).sum(axis=2, dtype=np.int16) > 30
         assert panel.sum() > 2000                          # there is one (text on it)
         assert not (panel & drawn).any()
     assert (drawn & top_left).sum() > 5000                # the panel's first corner is taken

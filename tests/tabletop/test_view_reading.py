@@ -57,8 +57,10 @@ def table_view(turn: str | None, draw: Draw, light: int = 40) -> np.ndarray:
         renderer = Renderer(TABLE, size, margin=24, homography=H)
         surface = pygame.Surface(size)
         draw(renderer, surface, with_word)
-        shots.append(pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int))
-    changed = (np.abs(shots[0] - shots[1]).sum(axis=2) > 40) & (shots[0].sum(axis=2) >= light)
+        # (int16: a channel's difference is within +-255, three channels' sum within 765)
+        shots.append(pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(np.int16))
+    changed = ((np.abs(shots[0] - shots[1]).sum(axis=2, dtype=np.int16) > 40)
+               & (shots[0].sum(axis=2, dtype=np.int16) >= light))
     return back(changed)
 
 
