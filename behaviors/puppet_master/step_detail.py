@@ -11,7 +11,8 @@ import math
 
 from behaviors.puppet_master.generation import capped, kept_straightness, rotate_step, turn_between
 from behaviors.puppet_master.step_senses import StepSenses
-from behaviors.puppet_master.table_boundary import keep_apart, keep_on_table, turn_off_edges
+from behaviors.puppet_master.table_boundary import (keep_apart, keep_on_table, out_of_way,
+                                                     turn_off_edges)
 
 
 class StepDetail(StepSenses):
@@ -221,7 +222,12 @@ class StepDetail(StepSenses):
         if b.main_disc > 0.0:            # the personal space, or the least distance shown
             others = [*others, (mx, my, b.main_disc)]
         if others:
-            nx, ny = keep_apart(rx + sx, ry + sy, others, self.table)
+            nx, ny = rx + sx, ry + sy
+            if b.main_disc > 0.0:        # the main's way ahead (table_boundary.out_of_way)
+                nx, ny = out_of_way(nx, ny, mx, my, mx - self.main_motion.x,
+                                    my - self.main_motion.y, b.main_disc, b.largest_step,
+                                    self.table)
+            nx, ny = keep_apart(nx, ny, others, self.table)
             if b.keeps_pace and math.hypot(rx + sx - mx, ry + sy - my) < b.main_disc:
                 self.smoother.lose_inward(nx - mx, ny - my)   # pushed aside by its main's puck
             sx, sy = nx - rx, ny - ry

@@ -373,3 +373,35 @@ def _free_axis(x: float, y: float, least: float,
         if reach > most:
             best, most = (ux, uy), reach
     return best
+
+
+LEAD = 1.0     # the main's way read ahead over LEAD x the steps the character needs to leave
+#                its disc at its largest step (out_of_way)
+
+
+def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, least: float,
+               largest: float, table: tuple[float, float, float, float]) -> tuple[float, float]:
+    """Position (x, y) moved out of the way of a main at (mx, my) stepping (vx, vy) metres per
+    step, when it steps farther than the character's ``largest`` step: the way the main takes
+    over the next LEAD x least / largest steps (the steps the character needs to leave a disc
+    of ``least`` metres at its largest step), widened by ``least``. Pushed from the way's
+    nearest point (across the main's line beside it, ahead beyond its end), as far as the
+    table lets it; a position behind the main, or out of the way, is kept."""
+    v2 = vx * vx + vy * vy
+    ahead = LEAD * least / largest
+    if v2 <= largest * largest or ahead <= 0.0:
+        return x, y
+    ex, ey = vx * ahead, vy * ahead
+    u = ((x - mx) * ex + (y - my) * ey) / (v2 * ahead * ahead)
+    if u <= 0.0:
+        return x, y
+    u = min(u, 1.0)
+    cx, cy = mx + u * ex, my + u * ey
+    dx, dy = x - cx, y - cy
+    d = math.hypot(dx, dy)
+    if d >= least:
+        return x, y
+    if d < 1e-9:                         # on the main's line: to its left
+        dx, dy, d = -vy, vx, math.sqrt(v2)
+    push = max(d, min(least, table_reach(cx, cy, dx / d, dy / d, table)))
+    return clamp_to_table(cx + dx * push / d, cy + dy * push / d, table)
