@@ -420,7 +420,9 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     to the largest step after it (step_detail.py) and can end inside the main's disc where the
     push was across (a 30 Hz main beside the stalker on a 2.0 x 1.2 m table: 0.051 -> 0.040 m);
     kept only where the step so cut ends out of the disc: share inside 0.0201 -> 0.0226 (the
-    afraid one 0.0175 -> 0.0236, least over the disc 0.643 -> 0.534): not used."""
+    afraid one 0.0175 -> 0.0236, least over the disc 0.643 -> 0.534); the cut step kept apart
+    and cut again where it so ends: 0.0201 -> 0.0200, but the bully's, stalker's and afraid
+    one's shares higher (0.0040 / 0.0034 / 0.0175 -> 0.0043 / 0.0038 / 0.0183): not used."""
     v2 = vx * vx + vy * vy
     ahead = LEAD * least / largest
     if v2 <= largest * largest or ahead <= 0.0:
