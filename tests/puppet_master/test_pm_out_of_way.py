@@ -5,13 +5,8 @@ disc round the main without stepping further than its largest demonstrated step.
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, generation_kernel, table_boundary
-from behaviors.puppet_master.behavior import Behavior
-from behaviors.puppet_master.engine import Reactor
-from tabletop import examples, library
-from tracking.visitor import ScriptedVisitor
-
-TABLE = (1.2, 0.8)          # metres; an unseen table and main (the visitor at 0.5-1x its pace)
+from behaviors.puppet_master import generation_kernel, table_boundary
+from tests.puppet_master.test_pm_never_jumps import fast_main_run
 
 
 def test_the_way_ahead_of_a_fast_main_pushes_across_its_line():
@@ -37,29 +32,13 @@ def test_the_way_ahead_of_a_fast_main_pushes_across_its_line():
                                      table) == (0.4, 0.45)
 
 
-def _generate(b: Behavior, main: np.ndarray, compiled: bool) -> np.ndarray:
-    r = Reactor(b, (0.0, 0.0, *TABLE), max_backlog=None)
-    r.compiled = compiled
-    rows = []
-    for t, x, y, d in main:
-        rows.extend(r.advance(float(t), float(x), float(y), float(d)))
-    return np.asarray(rows, dtype=float)
-
-
 # least distance to the main over its disc without the way ahead (given way at the largest step
 # only once run into): stalker 0.21 / 0.66, afraid 0.50 / 0.73 / 0.77, lover 0.32; with it
 # 1.14 / 1.11, 1.00 / 1.00 / 1.00, 0.87
 @pytest.mark.parametrize("name, seed", [("stalker", 27), ("stalker", 30), ("afraid", 23),
                                         ("afraid", 27), ("afraid", 30), ("lover", 23)])
 def test_a_fast_main_does_not_run_over_a_character(name, seed):
-    stored = library.load_behavior(examples.DEFAULT_OUT / name)
-    b = Behavior.train(stored.demonstration, **stored.parameters)
-    v = ScriptedVisitor(TABLE, [1], seed=seed, speed=(0.5, 1.0))
-    main = np.array([(t, *v.poses(t)[0][1:]) for t in np.arange(0.0, 8.0, 1.0 / 60.0)])
-    fast, slow = _generate(b, main, True), _generate(b, main, False)
-    assert np.array_equal(fast.view(np.uint64), slow.view(np.uint64))
+    b, _, fast, dist = fast_main_run(name, seed)     # compiled == Python, to the bit
     step = np.hypot(*np.diff(fast[:, 1:3], axis=0).T)
     assert step.max() <= b.largest_step * (1.0 + 1e-9), step.max() / b.largest_step
-    mg = fidelity.main_on_grid(main, fast[:, 0])
-    dist = np.hypot(fast[1:, 1] - mg[1:, 0], fast[1:, 2] - mg[1:, 1])
     assert dist.min() >= 0.8 * b.main_disc, dist.min() / b.main_disc
