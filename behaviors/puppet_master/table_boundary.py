@@ -411,7 +411,10 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     engine's alone 7, pursuit 47); --seeds 40-51 --perturb 2: 1328 (31), pursuit 85 -> 1329
     (30), 85. Other reading distances, 12 of those scenes, share inside / least over the disc
     (means over the characters): LEAD 1 0.0178 / 0.628, 1.5 0.0197 / 0.610, 2 0.0203 / 0.564
-    (read farther, the way's end lies beyond where the main turns). Pushed across to the other
+    (read farther, the way's end lies beyond where the main turns); on the 36: LEAD 0.75 / 1 /
+    1.25 0.0207 / 0.0201 / 0.0190, least 0.597 / 0.640 / 0.643, but at 1.25 the least of any
+    scene lower for the afraid one (0.203 -> 0.143) and the playful friend (0.057 -> 0.036),
+    the bully's mean 0.813 -> 0.778. Pushed across to the other
     side of the main's line where its own side's edge cuts the push short and the position lies
     within 0.5 / 1 x least of the line (36 scenes): share inside 0.0201 -> 0.0174 / 0.0172, the
     least over the disc 0.024 -> 0.046 / 0.092, but the afraid one's share 0.0175 -> 0.0176 /
