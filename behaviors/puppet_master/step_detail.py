@@ -251,7 +251,8 @@ class StepDetail(StepSenses):
             # perturbed runs 1328 / 1339 / 1334 -> 1328 / 1339 / 1335). What it costs: a main
             # faster than the character was ever shown to move comes nearer than its disc
             # (the afraid one's least distance on that fast path 0.104 -> 0.053 m; 0.078 m with
-            # the main's way ahead read, table_boundary.out_of_way). Given way sideways instead (that step across the main's own step, away from its line;
+            # the main's way ahead read, table_boundary.out_of_way). Given way sideways instead
+            # (that step across the main's own step, away from its line;
             # Python step): least distances mixed on those paths, the afraid one 0.053 -> 0.068
             # m and the stalker 0.035 -> 0.042 beside the fast main, but the stalker 0.051 ->
             # 0.038 beside the 30 Hz one and the playful friend 0.050 -> 0.039. Not kept
