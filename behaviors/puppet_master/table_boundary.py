@@ -410,8 +410,8 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     bench/fidelity.py --seeds 0-5: every figure the same to the last digit (677 of 720, the
     engine's alone 7, pursuit 47); --seeds 40-51 --perturb 2: 1328 (31), pursuit 85 -> 1329
     (30), 85 (its three runs 1328 / 1339 / 1335 -> 1329 / 1338 / 1336: the lover's, beside the
-    fast reversing main, 29 / 26 / 25 -> 28 / 27 / 24 misses). Other reading distances, 12 of those scenes, share inside / least over the disc
-    (means over the characters): LEAD 1 0.0178 / 0.628, 1.5 0.0197 / 0.610, 2 0.0203 / 0.564
+    fast reversing main, 29 / 26 / 25 -> 28 / 27 / 24 misses). Other reading distances, 12
+    of those scenes, share inside / least over the disc (means over the characters): LEAD 1 0.0178 / 0.628, 1.5 0.0197 / 0.610, 2 0.0203 / 0.564
     (read farther, the way's end lies beyond where the main turns); on the 36: LEAD 0.75 / 1 /
     1.25 0.0207 / 0.0201 / 0.0190, least 0.597 / 0.640 / 0.643, but at 1.25 the least of any
     scene lower for the afraid one (0.203 -> 0.143) and the playful friend (0.057 -> 0.036),
