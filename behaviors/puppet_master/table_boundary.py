@@ -407,26 +407,26 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     The visitor at 0.5-1x its pace on a 1.2 x 0.8 m table (60 Hz, 40 s), least distance: afraid
     0.053 -> 0.078 m, stalker 0.035 -> 0.053, lover 0.021 -> 0.069; its first 8 s of seed 27
     the stalker 0.011 -> 0.060 m (the main passed over it), the afraid one 0.077 -> 0.105.
-    bench/fidelity.py --seeds 0-5: every figure the same to the last digit (677 of 720, the
-    engine's alone 7, pursuit 47); --seeds 40-51 --perturb 2: 1328 (31), pursuit 85 -> 1329
-    (30), 85 (its three runs 1328 / 1339 / 1335 -> 1329 / 1338 / 1336: the lover's, beside the
-    fast reversing main, 29 / 26 / 25 -> 28 / 27 / 24 misses). Other reading distances, 12
-    of those scenes, share inside / least over the disc (means over the characters): LEAD 1 0.0178 / 0.628, 1.5 0.0197 / 0.610, 2 0.0203 / 0.564
-    (read farther, the way's end lies beyond where the main turns); on the 36: LEAD 0.75 / 1 /
-    1.25 0.0207 / 0.0201 / 0.0190, least 0.597 / 0.640 / 0.643, but at 1.25 the least of any
-    scene lower for the afraid one (0.203 -> 0.143) and the playful friend (0.057 -> 0.036),
-    the bully's mean 0.813 -> 0.778. Pushed across to the other
-    side of the main's line where its own side's edge cuts the push short and the position lies
-    within 0.5 / 1 x least of the line (36 scenes): share inside 0.0201 -> 0.0174 / 0.0172, the
-    least over the disc 0.024 -> 0.046 / 0.092, but the afraid one's share 0.0175 -> 0.0176 /
-    0.0177 and the least beside a passing main lower (lover 0.35 -> 0.12, stalker 0.54 -> 0.17 /
-    0.21: it crosses in front of the main): not used. A step toward the pushed position is cut
-    to the largest step after it (step_detail.py) and can end inside the main's disc where the
-    push was across (a 30 Hz main beside the stalker on a 2.0 x 1.2 m table: 0.051 -> 0.040 m);
-    kept only where the step so cut ends out of the disc: share inside 0.0201 -> 0.0226 (the
-    afraid one 0.0175 -> 0.0236, least over the disc 0.643 -> 0.534); the cut step kept apart
-    and cut again where it so ends: 0.0201 -> 0.0200, but the bully's, stalker's and afraid
-    one's shares higher (0.0040 / 0.0034 / 0.0175 -> 0.0043 / 0.0038 / 0.0183): not used."""
+    bench/fidelity.py --seeds 0-5: every figure the same to the last digit (677 of 720, the engine's
+    alone 7, pursuit 47); --seeds 40-51 --perturb 2: 1328 (31), pursuit 85 -> 1329 (30), 85 (its
+    three runs 1328 / 1339 / 1335 -> 1329 / 1338 / 1336: the lover's, beside the fast reversing
+    main, 29 / 26 / 25 -> 28 / 27 / 24 misses). Other reading distances, 12 of those scenes, share
+    inside / least over the disc (means over the characters): LEAD 1 0.0178 / 0.628, 1.5 0.0197 /
+    0.610, 2 0.0203 / 0.564 (read farther, the way's end lies beyond where the main turns); on the
+    36: LEAD 0.75 / 1 / 1.25 0.0207 / 0.0201 / 0.0190, least 0.597 / 0.640 / 0.643, but at 1.25 the
+    least of any scene lower for the afraid one (0.203 -> 0.143) and the playful friend (0.057 ->
+    0.036), the bully's mean 0.813 -> 0.778. Pushed across to the other side of the main's line
+    where its own side's edge cuts the push short and the position lies within 0.5 / 1 x least of
+    the line (36 scenes): share inside 0.0201 -> 0.0174 / 0.0172, the least over the disc 0.024 ->
+    0.046 / 0.092, but the afraid one's share 0.0175 -> 0.0176 / 0.0177 and the least beside a
+    passing main lower (lover 0.35 -> 0.12, stalker 0.54 -> 0.17 / 0.21: it crosses in front of the
+    main): not used. A step toward the pushed position is cut to the largest step after it
+    (step_detail.py) and can end inside the main's disc where the push was across (a 30 Hz main
+    beside the stalker on a 2.0 x 1.2 m table: 0.051 -> 0.040 m); kept only where the step so cut
+    ends out of the disc: share inside 0.0201 -> 0.0226 (the afraid one 0.0175 -> 0.0236, least over
+    the disc 0.643 -> 0.534); the cut step kept apart and cut again where it so ends: 0.0201 ->
+    0.0200, but the bully's, stalker's and afraid one's shares higher (0.0040 / 0.0034 / 0.0175 ->
+    0.0043 / 0.0038 / 0.0183): not used."""
     v2 = vx * vx + vy * vy
     ahead = LEAD * least / largest
     if v2 <= largest * largest or ahead <= 0.0:
