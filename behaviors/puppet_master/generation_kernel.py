@@ -16,7 +16,7 @@ import numpy as np
 
 from behaviors.puppet_master import step_math, table_boundary
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
-from behaviors.puppet_master.table_boundary import (APART_PASSES, EDGE_EPS, EDGE_TURN,
+from behaviors.puppet_master.table_boundary import (APART_PASSES, EDGE_EPS, EDGE_TURN, LEAD,
                                                      SLIDE_DEPTH)
 from behaviors.kernel_cache import compiled
 
@@ -294,6 +294,30 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
         if not moved or others.shape[0] < 2:
             break
     return clamp_to_table(x, y, c)
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, table_boundary)
+def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, least: float,
+               largest: float, c: np.ndarray) -> tuple[float, float]:
+    """table_boundary.out_of_way (table from the constants)."""
+    v2 = vx * vx + vy * vy
+    ahead = LEAD * least / largest
+    if v2 <= largest * largest or ahead <= 0.0:
+        return x, y
+    ex, ey = vx * ahead, vy * ahead
+    u = ((x - mx) * ex + (y - my) * ey) / (v2 * ahead * ahead)
+    if u <= 0.0:
+        return x, y
+    u = _min(u, 1.0)
+    cx, cy = mx + u * ex, my + u * ey
+    dx, dy = x - cx, y - cy
+    d = hypot(dx, dy)
+    if d >= least:
+        return x, y
+    if d < 1e-9:
+        dx, dy, d = -vy, vx, math.sqrt(v2)
+    push = _max(d, _min(least, table_reach(cx, cy, dx / d, dy / d, c)))
+    return clamp_to_table(cx + dx * push / d, cy + dy * push / d, c)
 
 
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math, table_boundary)

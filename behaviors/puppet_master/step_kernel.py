@@ -14,7 +14,7 @@ any of these must be made here too:
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, less_approach, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
   StepSmoother.turn, push and lose_inward
-- table_boundary.turn_off_edges (and EDGE_TURN, frozen into the compiled step)
+- table_boundary.turn_off_edges and out_of_way (EDGE_TURN, LEAD frozen into the compiled step)
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -40,8 +40,8 @@ import numpy as np
 from behaviors.puppet_master import generation_kernel, step_math, table_boundary
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
-    keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, share_around,
-    step_around, table_reach, turn_between, turn_off_edges)
+    keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, out_of_way,
+    share_around, step_around, table_reach, turn_between, turn_off_edges)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -352,7 +352,11 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[EDGE_BAND])
     sx, sy = keep_on_table(rx, ry, sx, sy, c)
     if obstacles.shape[0] > 0:
-        nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
+        nx, ny = rx + sx, ry + sy
+        if c[MAIN_DISC] > 0.0:       # the main's way ahead (step_detail.py)
+            nx, ny = out_of_way(nx, ny, mx, my, mx - fs[MAIN_X], my - fs[MAIN_Y], c[MAIN_DISC],
+                                c[LARGEST_STEP], c)
+        nx, ny = keep_apart(nx, ny, obstacles, c)
         if c[KEEPS_PACE] != 0.0 and hypot(rx + sx - mx, ry + sy - my) < c[MAIN_DISC]:
             lose_inward(smooth_x, smooth_y, nx - mx, ny - my)     # pushed aside (step.py)
         sx, sy = nx - rx, ny - ry

@@ -4,7 +4,8 @@
 :func:`fit_target` moves a target onto the table at its distance from the main,
 :func:`turn_off_edges` turns a step off the edges near them, :func:`keep_on_table` shortens a
 step that would leave it, :func:`keep_apart` pushes a position
-out of other characters' discs as far as the table lets it. Positions in table metres, tables
+out of other characters' discs as far as the table lets it, :func:`out_of_way` out of the way
+a fast main is about to take. Positions in table metres, tables
 as (x0, y0, x1, y1).
 """
 
@@ -304,7 +305,13 @@ def keep_apart(x: float, y: float, others: list[tuple[float, float, float]],
     size 0.446-0.918 on 6 runs, 38 frames under 0.9; with the slide 0.954-1.0, none. Sliding
     out of any overlap (depth 0) made it jump: frames stepping more than the character's
     largest demonstrated step 4 -> 10 (1.71 -> 2.51 x; a stalker 0.4 mm inside slid 1.8 cm);
-    at 0.05: 3 (1.71 x). The 22 scenes above: least 0.921 -> 0.948."""
+    at 0.05: 3 (1.71 x). The 22 scenes above: least 0.921 -> 0.948. Sliding on the first pass
+    too (one disc: a character its main presses into an edge; out_of_way's scenes, 36 per
+    character: share inside the main's disc 0.0201 -> 0.0149, least over it 0.024 -> 0.081,
+    bench/fidelity.py --seeds 0-5 the same to the last digit) held the afraid character herded
+    by a hand that stays on it along the edge (tests/puppet_master/test_pm_personal_space.py,
+    contact / at an edge from (0.9, 0.5) 0.001 / 0.63 -> 0.000 / 0.78; at a depth of 0.25 0.023
+    / 0.76): not used."""
     for visit in range(APART_PASSES):
         moved = False
         for ox, oy, least in others:
@@ -373,3 +380,68 @@ def _free_axis(x: float, y: float, least: float,
         if reach > most:
             best, most = (ux, uy), reach
     return best
+
+
+LEAD = 1.0     # the main's way read ahead: LEAD x the steps a character needs to leave its disc
+
+
+def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, least: float,
+               largest: float, table: tuple[float, float, float, float]) -> tuple[float, float]:
+    """Position (x, y) moved out of the way of a main at (mx, my) stepping (vx, vy) metres per
+    step, when it steps farther than the character's ``largest`` step: the way the main takes
+    over the next LEAD x least / largest steps (the steps the character needs to leave a disc
+    of ``least`` metres at its largest step), widened by ``least``. Pushed from the way's
+    nearest point (across the main's line beside it, on ahead beyond its end, to the main's
+    left on its line), as far as the table lets it; a position behind the main, or out of its
+    way, is kept. A puppeteer's character steps aside as the hand comes at it; given way only
+    when run into (keep_apart, the step capped at its largest), a main faster than it was ever
+    shown to move ran it over.
+
+    Unseen scenes (a main at 0.3-1.5 m/s run straight at the character, 0.3-0.8 x its disc
+    beside it, or herding it into a corner, from 0.35-0.6 m; tables 0.6 x 0.4 - 3.0 x 0.5 m,
+    main 30-60 Hz, 24 s; the five shipped characters, 36 scenes each), share of steps nearer
+    the main than its disc (Behavior.main_disc) / least distance over the disc, mean over
+    scenes: lover 0.1015 / 0.124 -> 0.0548 / 0.366, bully 0.0068 / 0.698 -> 0.0040 / 0.813,
+    stalker 0.0167 / 0.382 -> 0.0034 / 0.825, afraid 0.0504 / 0.363 -> 0.0175 / 0.643,
+    playful friend 0.0242 / 0.482 -> 0.0209 / 0.553; no step over the largest before or after.
+    The visitor at 0.5-1x its pace on a 1.2 x 0.8 m table (60 Hz, 40 s), least distance: afraid
+    0.053 -> 0.078 m, stalker 0.035 -> 0.053, lover 0.021 -> 0.069; its first 8 s of seed 27
+    the stalker 0.011 -> 0.060 m (the main passed over it), the afraid one 0.077 -> 0.105.
+    bench/fidelity.py --seeds 0-5: every figure the same to the last digit (677 of 720, the engine's
+    alone 7, pursuit 47); --seeds 40-51 --perturb 2: 1328 (31), pursuit 85 -> 1329 (30), 85 (its
+    three runs 1328 / 1339 / 1335 -> 1329 / 1338 / 1336: the lover's, beside the fast reversing
+    main, 29 / 26 / 25 -> 28 / 27 / 24 misses). Other reading distances, 12 of those scenes, share
+    inside / least over the disc (means over the characters): LEAD 1 0.0178 / 0.628, 1.5 0.0197 /
+    0.610, 2 0.0203 / 0.564 (read farther, the way's end lies beyond where the main turns); on the
+    36: LEAD 0.75 / 1 / 1.25 0.0207 / 0.0201 / 0.0190, least 0.597 / 0.640 / 0.643, but at 1.25 the
+    least of any scene lower for the afraid one (0.203 -> 0.143) and the playful friend (0.057 ->
+    0.036), the bully's mean 0.813 -> 0.778. Pushed across to the other side of the main's line
+    where its own side's edge cuts the push short and the position lies within 0.5 / 1 x least of
+    the line (36 scenes): share inside 0.0201 -> 0.0174 / 0.0172, the least over the disc 0.024 ->
+    0.046 / 0.092, but the afraid one's share 0.0175 -> 0.0176 / 0.0177 and the least beside a
+    passing main lower (lover 0.35 -> 0.12, stalker 0.54 -> 0.17 / 0.21: it crosses in front of the
+    main): not used. A step toward the pushed position is cut to the largest step after it
+    (step_detail.py) and can end inside the main's disc where the push was across (a 30 Hz main
+    beside the stalker on a 2.0 x 1.2 m table: 0.051 -> 0.040 m); kept only where the step so cut
+    ends out of the disc: share inside 0.0201 -> 0.0226 (the afraid one 0.0175 -> 0.0236, least over
+    the disc 0.643 -> 0.534); the cut step kept apart and cut again where it so ends: 0.0201 ->
+    0.0200, but the bully's, stalker's and afraid one's shares higher (0.0040 / 0.0034 / 0.0175 ->
+    0.0043 / 0.0038 / 0.0183): not used."""
+    v2 = vx * vx + vy * vy
+    ahead = LEAD * least / largest
+    if v2 <= largest * largest or ahead <= 0.0:
+        return x, y
+    ex, ey = vx * ahead, vy * ahead
+    u = ((x - mx) * ex + (y - my) * ey) / (v2 * ahead * ahead)
+    if u <= 0.0:
+        return x, y
+    u = min(u, 1.0)
+    cx, cy = mx + u * ex, my + u * ey
+    dx, dy = x - cx, y - cy
+    d = math.hypot(dx, dy)
+    if d >= least:
+        return x, y
+    if d < 1e-9:                         # on the main's line: to its left
+        dx, dy, d = -vy, vx, math.sqrt(v2)
+    push = max(d, min(least, table_reach(cx, cy, dx / d, dy / d, table)))
+    return clamp_to_table(cx + dx * push / d, cy + dy * push / d, table)
