@@ -123,6 +123,10 @@ class CharacterState:
     action-following engine already suspects before anything drives the character: the view may
     draw them faintly. ``look_at`` (x, y, metres) is
     what the character attends to (a reactor's main puck): the view turns its eyes there.
+    ``facing``: for a figure drawn as a virtual camera sees it (a touch-posed humanoid at its
+    viewpoint), where its head faces in that view, a unit vector (x, y along the table as the
+    points lie, then toward the viewer): its face is drawn as seen, one eye in profile and none
+    from behind; None for figures seen from above.
     """
 
     name: str
@@ -141,6 +145,7 @@ class CharacterState:
     hints: tuple[tuple[str, float, float], ...] = ()
     hint_points: np.ndarray | None = None
     look_at: tuple[float, float] | None = None
+    facing: tuple[float, float, float] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", _frozen_array(self.points))

@@ -35,7 +35,7 @@ import numpy as np
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel
 from behaviors.touch_pose.action_control import ActionControl, Handover
 from behaviors.touch_pose.fingers import Finger, common_motion
-from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose
+from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, qrot
 from behaviors.touch_pose.ik import CCD, limit_goal
 from behaviors.touch_pose.latent import Blend, yaw_view
 from behaviors.touch_pose.models import Models, load_or_build
@@ -224,6 +224,20 @@ class TouchPose(ActionControl):
         """The output posture's joints and parts projected on the table (19, 2; metres), in
         the order :attr:`Humanoid.bones` indexes."""
         return self.camera.table(self._points(self.output))
+
+    def head_facing(self) -> tuple[float, float, float]:
+        """Where the output posture's head turns (its forward, the model's x, about the
+        vertical) as the camera sees it: (table x, table y, toward the viewer), a unit vector
+        (the viewpoint against the head, as the paper's eye vector against an action's). Its
+        pitch is left out: the standing head's forward points 30 degrees down, which hid the
+        far eye of a three-quarter view (azimuth 45) behind the head's side."""
+        qw, _ = self.body.globals(self.output)
+        f = np.array(qrot(qw[self.body.part_body["head"]], (1.0, 0.0, 0.0)))
+        level = np.array([f[0], 0.0, f[2]])
+        n = float(np.linalg.norm(level))
+        f = level / n if n > 1e-6 else f
+        cam = self.camera
+        return float(f @ cam.right), float(f @ cam.up), float(-(f @ cam.eye))
 
     def frame(self, t: float) -> dict:
         """The output record of DESIGN.md's ``pose`` for the current output posture."""

@@ -24,6 +24,14 @@ SKELETON, CREATURE, SPRITE, OTHER = 0, 1, 2, 3     # figure kinds (``figure``'s 
 # 2.4 px at 1280x720 (a 0.15 m bird), white specks with a pupil of a pixel.
 BIRD_HEAD, BIRD_EYE = 0.09, 0.42
 HEAD, FEATURES = 1, 2                              # a face's parts (``face``'s ``parts``)
+# A head seen by a camera (a touch-posed humanoid): its eyes lie EYE_YAW radians to either side
+# of where it faces, on a sphere EYE_R times the head's radius (from the front they lie as a
+# figure's seen from above: 0.5 radii apart from its middle), and show while they face the
+# viewer by more than EYE_SEEN (the cosine to the view). The example's humanoid at elevation 15
+# (eye pixels at 1280x720): two from the front (143) and at azimuth 45 (123: the far one faces
+# it by 0.12, hidden at 0.15), one in profile (70), none from 135 or behind; two (134-143) at
+# every azimuth before.
+EYE_YAW, EYE_R, EYE_SEEN = 0.6, 0.885, 0.05
 
 
 @kernel
@@ -93,13 +101,15 @@ def reactor(pix: np.ndarray, fmt: np.ndarray, uv: np.ndarray, eyes_uv: np.ndarra
 @kernel
 def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp: np.ndarray,
            kind: int, w0: float, wspine: float, fig: float, head: bool, dark: int, body: int,
-           light: int, angle: float, gaze: float, blink: float, white: int, ink: int) -> None:
+           light: int, angle: float, gaze: float, blink: float, white: int, ink: int,
+           vx: float, vy: float, vz: float) -> None:
     """An articulated figure (points ``q`` px, topology ``tp`` from :func:`pack_topology`):
     limbs and their joints in the ``dark`` shade, a torso for a creature or bird, the spine and
     its joints over them, lighter knots where limbs bend, and a head with eyes at the spine's
     end (unless ``head`` is False). Half-widths are ``w0`` px times each point's relative
     thickness ``rel``, at least ``wspine`` times it on the spine but its end. ``fig``: its size
-    in px."""
+    in px; (``vx``, ``vy``, ``vz``): where its head faces as a camera sees it (px on screen per
+    unit, then toward the viewer; NaN: seen from above)."""
     nb, nl, nlp, nsp, nk, ns = tp[0], tp[1], tp[2], tp[3], tp[4], tp[5]
     o = 6
     ol = o + 2 * nb
@@ -145,15 +155,16 @@ def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp:
             disc(pix, fmt, q[i, 0], q[i, 1], w[i] * 0.45 + 0.5, light)
     if head and ns >= 2:
         _head(pix, fmt, q, tp[os_ + ns - 1], tp[os_ + ns - 2], kind, fig, body, angle, gaze,
-              blink, white, ink)
+              blink, white, ink, vx, vy, vz)
 
 
 @kernel
 def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind: int,
           fig: float, body: int, angle: float, gaze: float, blink: float, white: int,
-          ink: int) -> None:
+          ink: int, vx: float, vy: float, vz: float) -> None:
     """A head at the spine's end ``h`` (``p`` before it), facing along that last bone, eyes
-    looking along the gaze."""
+    looking along the gaze; seen by a camera (``vz`` not NaN, :func:`figure`), its eyes where
+    they face the viewer (:func:`_seen_eyes`)."""
     hx, hy, px, py = q[h, 0], q[h, 1], q[p, 0], q[p, 1]
     dx, dy = hx - px, hy - py
     dn = math.hypot(dx, dy)
@@ -165,13 +176,44 @@ def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind:
         ox, oy = hx - dx * 0.35, hy - dy * 0.35
         r = (BIRD_HEAD if kind == SPRITE else 0.06) * fig
     disc(pix, fmt, ox, oy, max(2.5, r) + 0.5, body)
+    er = max(1.6, (BIRD_EYE if kind == SPRITE else 0.32) * r)
+    if not math.isnan(vz):
+        _seen_eyes(pix, fmt, ox, oy, r, math.cos(facing), math.sin(facing), vx, vy, vz, er,
+                   blink, angle, white, ink)
+        return
     sx, sy = -math.sin(facing), math.cos(facing)
     if kind == SKELETON:   # seen from the side or above: the eyes turned toward the gaze
         ex, ey, k = ox + 0.35 * r * math.cos(gaze), oy + 0.35 * r * math.sin(gaze), 0.33 * r
     else:
         ex, ey, k = ox + math.cos(facing) * 0.25 * r, oy + math.sin(facing) * 0.25 * r, 0.5 * r
-    eyes(pix, fmt, ex + sx * k, ey + sy * k, ex - sx * k, ey - sy * k,
-         max(1.6, (BIRD_EYE if kind == SPRITE else 0.32) * r), blink, gaze, angle, white, ink)
+    eyes(pix, fmt, ex + sx * k, ey + sy * k, ex - sx * k, ey - sy * k, er, blink, gaze, angle,
+         white, ink)
+
+
+@kernel
+def _seen_eyes(pix: np.ndarray, fmt: np.ndarray, ox: float, oy: float, r: float, ux: float,
+               uy: float, vx: float, vy: float, vz: float, er: float, blink: float,
+               angle: float, white: int, ink: int) -> None:
+    """The eyes of a round head (centre ``ox``, ``oy``, radius ``r`` px, up along ``ux``,
+    ``uy``) facing (``vx``, ``vy``) on screen and ``vz`` toward the viewer: each where it lies
+    on the head as seen, drawn only while it faces the viewer (:data:`EYE_SEEN`), looking
+    where the head faces."""
+    # the head's side: across its up (on screen) and its facing
+    sx, sy, sz = uy * vz, -ux * vz, ux * vy - uy * vx
+    n = math.sqrt(sx * sx + sy * sy + sz * sz)
+    if r < 1.0 or er < 1.5 or n < 1e-9:
+        return
+    ca, sa = math.cos(EYE_YAW), math.sin(EYE_YAW) / n
+    cx, cy = ox + 0.25 * r * ux, oy + 0.25 * r * uy
+    for side in (-1.0, 1.0):
+        nx, ny, nz = ca * vx + side * sa * sx, ca * vy + side * sa * sy, ca * vz + side * sa * sz
+        if nz > EYE_SEEN:
+            # within the head's outline (in profile it lay 0.73 radii out, its white past it)
+            k = EYE_R * r
+            d = k * math.hypot(nx, ny)
+            if d > r - er > 0:
+                k *= (r - er) / d
+            _eye(pix, fmt, cx + k * nx, cy + k * ny, er, blink, vx, vy, angle, white, ink)
 
 
 @kernel

@@ -303,7 +303,8 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
     raster.draw(surf, K.figure, pts, rel, tp, _KINDS.get(c.kind, K.OTHER), float(w0),
                 float(wspine), float(fig), bool(head), dark, body, light, float(pose.angle),
-                float(pose.gaze), float(pose.blink), white, ink)
+                float(pose.gaze), float(pose.blink), white, ink,
+                *pose_kernel.facing_px(H, c.x, c.y, c.facing))
     return P.union([touched, P.box(box, wspine + 0.08 * fig + 2)])
 
 

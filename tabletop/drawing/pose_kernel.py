@@ -85,6 +85,21 @@ def posed(H: np.ndarray, xy: np.ndarray, cx: float, cy: float, k: float) -> tupl
     return out, x0, y0, x1, y1
 
 
+def facing_px(H: np.ndarray, x: float, y: float,
+              facing: tuple[float, float, float] | None) -> tuple[float, float, float]:
+    """A figure's ``facing`` (CharacterState) at (x, y) table metres in pixels: its direction
+    on screen (``H`` maps table metres to px), scaled to its length on the table, and its part
+    toward the viewer; NaN for a figure without one (seen from above)."""
+    if facing is None:
+        return math.nan, math.nan, math.nan
+    fx, fy, fz = facing
+    h = np.asarray(H, dtype=float) @ np.array([[x, x + 1e-3 * fx], [y, y + 1e-3 * fy], [1, 1]])
+    (ax, bx), (ay, by) = (h[:2] / h[2]).tolist()
+    n = math.hypot(bx - ax, by - ay)
+    k = math.hypot(fx, fy) / n if n > 0 else 0.0
+    return (bx - ax) * k, (by - ay) * k, float(fz)
+
+
 def warm() -> None:
     """Compile (or load from the cache) the kernels."""
     out = np.empty((1, FIELDS))

@@ -14,6 +14,7 @@ once into the cache beside their files (:mod:`~tabletop.drawing.kernel_cache`; t
 from __future__ import annotations
 
 import ctypes
+import math
 import weakref
 from typing import TYPE_CHECKING, Any, Callable
 
@@ -107,7 +108,7 @@ def warm() -> None:
     draw(surf, reactor, uv, uv[:2].copy(), m, 1.0, 30.0, 30.0, 20.0, 1.0, 0.0, 0.0, 1, 2, 3, 4,
          0.5, 0.0, 0.0, 5, 6)
     draw(surf, figure, q, np.full(3, 1.0), tp, CREATURE, 2.0, 2.0, 30.0, True, 1, 2, 3, 0.0, 0.0,
-         1.0, 4, 5)
+         1.0, 4, 5, 0.0, 0.0, math.nan)
     draw(surf, face, q, lp, 1.5, 1, 2, 3, 4, 1.0, 0.0, 0.0, 3)
     draw(surf, discs, q, 2.0, 1)
     bare = pygame.Surface((64, 64), 0, 32)

@@ -115,7 +115,7 @@ class TouchPoseEngine:
                                size=core.scale * core.stand_height, color=self.color,
                                points=pts, bones=core.body.bones,
                                progress=core.clock.u if acting else None, action=action,
-                               label=label),)
+                               label=label, facing=core.head_facing()),)
 
     def close(self) -> None:
         self.core.close()

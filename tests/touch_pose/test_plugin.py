@@ -47,6 +47,37 @@ def test_a_view_elevation_pose_refuses_is_refused_in_the_config_too(tmp_path, el
     assert _config(tmp_path, view=[-30, 89])["engines"][0]["view"] == [-30.0, 89.0]
 
 
+def _seen(tmp_path, azimuth: float) -> tuple[tuple[float, float, float], int]:
+    """The humanoid at rest seen from ``azimuth`` (elevation 15): where its head faces
+    (``facing``) and the pixels of its eyes' whites and pupils (white or black: channels
+    within 40, mean above 180 or below 70) drawn at 1280x720 on a red ground."""
+    cfg = _config(tmp_path, view=[azimuth, 15], physics=False)
+    e = touch_pose.build(cfg["engines"][0], BuildContext(TABLE, 30.0, cfg, tmp_path))
+    try:
+        (c,) = e.step(Frame(0, 0.0))
+    finally:
+        e.close()
+    surf = pygame.Surface((1280, 720))
+    surf.fill((150, 30, 0))
+    Renderer(TABLE, (1280, 720)).draw_character(surf, c)
+    img = pygame.surfarray.array3d(surf).astype(int)
+    mean = img.mean(axis=2)
+    eyes = (img.max(axis=2) - img.min(axis=2) <= 40) & ((mean > 180) | (mean < 70))
+    return c.facing, int(eyes.sum())
+
+
+def test_the_humanoid_is_drawn_with_the_face_its_view_sees(tmp_path, models):
+    """Its head's forward as the camera sees it: toward the viewer from the front (azimuth 0),
+    across the screen in profile (90: the example's figure faces right), away from behind.
+    Measured (toward the viewer; eye pixels): 0.97, 143 / -0.03, 70 / -0.97, 0; two eyes of
+    134-143 px at each of them before."""
+    (_, _, front), two = _seen(tmp_path, 0)
+    (px, _, profile), one = _seen(tmp_path, 90)
+    (_, _, back), none = _seen(tmp_path, 180)
+    assert front > 0.9 and abs(profile) < 0.2 and px > 0.9 and back < -0.9
+    assert 0.35 * two < one < 0.65 * two and none == 0
+
+
 def test_touches_from_the_bus_pose_the_drawn_humanoid(engine):
     hand = np.array(engine.core.describe()["parts"]["right_hand"])
     for k in range(45):
