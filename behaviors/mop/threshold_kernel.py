@@ -227,12 +227,15 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         length = hi - lo
         for p in range(length):
             vk[p] = _W0 * mk[p]
-        for p in range(1, length):
-            vk[p] += _W1 * mk[p - 1]
+        for p in range(1, length):   # (unsigned indices: see _MOVES_UNSIGNED)
+            u = _U(p)
+            vk[u] += _W1 * mk[u - _U(1)]
         for p in range(2, length):
-            vk[p] += _W2 * mk[p - 2]
+            u = _U(p)
+            vk[u] += _W2 * mk[u - _U(2)]
         for p in range(3, length):
-            vk[p] += _W3 * mk[p - 3]
+            u = _U(p)
+            vk[u] += _W3 * mk[u - _U(3)]
         for p in range(length):
             e = mvk[p] - top
             w = kc * vk[p] * exp_neg32(max(e, _FLOOR32))
