@@ -232,7 +232,8 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         # indices: the passes ran state by state, a quarter of this kernel's perf samples;
         # DESIGN's tick, thread time after the view's frames, alternating processes at load
         # 19: median 1385, 1294 -> 1277, 1196 us, update_templates 737, 712 -> 649, 622 us;
-        # the same numbers to the bit)
+        # bench/mop.py --design's CPU median 1.415 -> 1.249 ms, p99 2.30 -> 1.99 ms, medians of
+        # five alternating runs at load 13-22; the same numbers to the bit)
         length = hi - lo
         for p in range(length):
             vk[p] = _W0 * mk[p]
