@@ -44,7 +44,11 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
     they went through memory value by value, and so did the sum's parts in
     :func:`threshold_step` (now :func:`_summed`): with both in locals, update_templates 0.545
     -> 0.428 and 0.596 -> 0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms
-    (median thread time, interleaved in one process, load 19; the same numbers to the bit)."""
+    (median thread time, interleaved in one process, load 19; the same numbers to the bit).
+    Taken in the distance pass instead (a template of 100 states, both twins, hot): in the
+    same eight locals 955 -> 934-1000 ns a call (the compiler kept the maxima scalar and the
+    pass with them), as one ``llvm.maxnum`` chain 815 -> 975 ns, or here as one chain with
+    ``nnan``/``nsz`` 74 -> 242 ns a template (none became vector maxima): not taken."""
     t0 = t1 = t2 = t3 = t4 = t5 = t6 = t7 = _NEG_INF32
     end = hi - (hi - lo) % 8
     for j in range(lo, end, 8):
@@ -224,15 +228,24 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
             tops_k[2 * kk + k] = mk[0]
             continue
         # its prior, in the ergodic log-densities' place (read): one pass per move, vectorised
+        # once indexed unsigned (``mk[p - 1]`` kept numba's wrap-around select of negative
+        # indices: the passes ran state by state, a quarter of this kernel's perf samples;
+        # DESIGN's tick, thread time after the view's frames, alternating processes at load
+        # 19: median 1385, 1294 -> 1277, 1196 us, update_templates 737, 712 -> 649, 622 us;
+        # bench/mop.py --design's CPU median 1.415 -> 1.249 ms, p99 2.30 -> 1.99 ms, medians of
+        # five alternating runs at load 13-22; the same numbers to the bit)
         length = hi - lo
         for p in range(length):
             vk[p] = _W0 * mk[p]
         for p in range(1, length):
-            vk[p] += _W1 * mk[p - 1]
+            u = _U(p)
+            vk[u] += _W1 * mk[u - _U(1)]
         for p in range(2, length):
-            vk[p] += _W2 * mk[p - 2]
+            u = _U(p)
+            vk[u] += _W2 * mk[u - _U(2)]
         for p in range(3, length):
-            vk[p] += _W3 * mk[p - 3]
+            u = _U(p)
+            vk[u] += _W3 * mk[u - _U(3)]
         for p in range(length):
             e = mvk[p] - top
             w = kc * vk[p] * exp_neg32(max(e, _FLOOR32))
