@@ -36,6 +36,21 @@ template's shape; no wait for the input's turn): the diagonal on the eight 0 val
 0.0980 -> 0.0894, but valid after 30% 0.9000 -> 0.8980 (103 0.9129 -> 0.9102, 104 0.9028 ->
 0.8940, 102 and 105 lower too), twenty back to back within 20% 101-103 lower by 0.03 each: the
 cost is the window before the bend itself, where true performances are taken.
+Nor only where the bend goes on turning (1 rad within 0.1 after it; the held-out walk wrist's
+first stroke drifts 0.52-0.66 rad from 0.22 to 0.43 of it and is one stroke up to its turn back:
+waiting there cost seed 104's sized 0.9028 -> 0.8940, the 1.4x wrist 0.80 -> 0.44), the bend at
+0.3 of its template or earlier (the square's first side, to 0.375, not waiting), the wait ended
+at the bend or at the input's turn: held-out only the figure eight waits. Seeds 101-112, same
+sections: unrelated worst 101-106 0.1030 (103's mirrored square, the punch ankle's own stroke)
+both, mean 0.0935 -> 0.0856 (102 0.0814 -> 0.0533, 105 0.0996 -> 0.0840); 107-112 worst 0.1154
+-> 0.0912, mean 0.0954 -> 0.0800 (107 0.0914 -> 0.0666, 111 0.0918 -> 0.0691); 107-112 sized
+and sequences identical; but 103 sized 0.9129 -> 0.9107 (a 0.7x eight paused 0.5 s near its
+bend: 0.948 -> 0.724) and twenty back to back within 20% 101 0.344 -> 0.313. Waiting for the
+input's turn past the bend as well: also 106 0.8910 -> 0.8908, 110 0.9066 -> 0.9064, 112 0.8950
+-> 0.8942; ``bench/follow_quality.py``: after a gesture mean 0.0584 -> 0.0291 (a diagonal after
+one 0.116 -> 0), held-out unrelated mean 0.0126 -> 0.0088, but six back to back recognised at
+0.246 -> 0.284 (the eight 0.244 -> 0.305), 0.6/1.5x recognised by the end 0.975 -> 0.950,
+held-out aspect 1.2 0.427 -> 0.404, bent 10% 0.469 -> 0.466.
 """
 
 from __future__ import annotations
