@@ -36,6 +36,14 @@ Box = tuple[int, int, int, int]  # x0, y0, x1, y1 (exclusive), pixels
 # marker of a 480x270 frame was missed); below this larger side the full pass runs without it.
 ARUCO3_MIN_IMAGE_PX = 1000
 
+# ArUco3 reads a marker only when its side is at least about this many times
+# ``min_canonical_side_px``: at 1280x720 (16 markers, six scenes, canonical side 16 px) it found
+# 4% of 25 px markers, 73% of 29 px, 97% of 34 px and all of 49 px, where the search without it
+# found 99-100% of each. A marker below that size was never seen again (a still puck left
+# invisible). So ArUco3 searches only while the known markers are large enough, and with none
+# known every other full-frame search goes without it.
+ARUCO3_MIN_SIDE_CANONICAL = 2.25
+
 # While every known marker's side is at least this many pixels, the full-frame pass searches
 # the image halved (area average) and refines the found corners on the original: at 1280x720
 # with 16 pucks (sides 39-45 px) the halved search finds the same markers (15.75 of 16 fully
@@ -163,6 +171,8 @@ class MarkerTracker:
         self._full_params = detector_parameters(full)
         self._full_base_rate = self._full_rate = float(full.min_perimeter_rate)
         self._aruco3 = bool(full.aruco3)
+        self._aruco3_min_side = ARUCO3_MIN_SIDE_CANONICAL * float(full.min_canonical_side_px)
+        self._blind_searches = 0  # full-frame searches with no marker known, in a row
         # The halved image's search: the threshold window halved too (its cells are half as
         # wide), no ArUco3 (the halved image is small; see ARUCO3_MIN_IMAGE_PX).
         lo, hi, step = full.threshold_window_px
@@ -235,6 +245,10 @@ class MarkerTracker:
             found = set(ids.tolist())
             rest = {m: p for m, p in preds.items() if m not in found}
             if rest:
+                # A second, halved search of the crops still missing reads motion-blurred
+                # markers more often (12 mm blur, four pucks at 720p: 10-13% -> 14-17% of
+                # frames; 9.6 mm: 81-86% -> 88-91%), but the shown poses of pucks seen that
+                # sparsely got worse (p95 207-243 -> 215-257 mm): not done.
                 ids2, c2 = self._detect_regions(grey, rest)
                 self.last_pass = "roi"
                 if len(ids2):
@@ -384,12 +398,20 @@ class MarkerTracker:
         """While markers are known, the full pass ignores contours shorter than half the
         smallest known marker's perimeter (every puck carries the same printed size; perspective
         changes it far less than twofold), never admitting less than the configured rate; and it
-        uses ArUco3 only on images of at least ``ARUCO3_MIN_IMAGE_PX`` on their larger side."""
+        uses ArUco3 only on images of at least ``ARUCO3_MIN_IMAGE_PX`` on their larger side, while
+        the known markers are large enough for it (``ARUCO3_MIN_SIDE_CANONICAL``) or, with none
+        known, on every other search (a small marker is found by the next one)."""
         sides = [k.side for k in self.known.values()]
         rate = self._full_base_rate
         if sides:
             rate = max(rate, 4.0 * 0.5 * min(sides) / max(shape[0], shape[1]))
-        aruco3 = self._aruco3 and max(shape[0], shape[1]) >= ARUCO3_MIN_IMAGE_PX
+            readable = min(sides) >= self._aruco3_min_side
+            self._blind_searches = 0
+        else:
+            readable = self._blind_searches % 2 == 0
+            self._blind_searches += 1
+        aruco3 = (self._aruco3 and readable
+                  and max(shape[0], shape[1]) >= ARUCO3_MIN_IMAGE_PX)
         if abs(rate - self._full_rate) > 0.1 * rate \
                 or aruco3 != self._full_params.useAruco3Detection:
             self._full_params.minMarkerPerimeterRate = rate
