@@ -278,6 +278,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._judged.fill(1.0)
         self._best = -1   # none before the first sample: the likeliest then, without the margin
         self._run, self._run_k = 0, -1   # samples in a row best was ok, and whose
+        # samples in a row best was blocked, whose, and the best barred (blocked)
+        self._blocked, self._blocked_k, self._barred, self._freed = 0, -1, -1, -1
+        self._once = np.zeros(len(self.names), dtype=bool)
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0

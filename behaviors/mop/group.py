@@ -255,7 +255,8 @@ class FollowerGroup(GroupArrays, GroupRules):
             LEAD * 2.0 * SHAPE_SPREAD ** 2, k_out, self._k_new, self._m_top3, self._m_floats,
             self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
             self._thr_scratch, self._thr_z, self._thr_lj, self._thr_tops, self._reversal_at,
-            self._reversal_tol, self._probe, self._probe_floor2, self._k_rows)
+            self._reversal_tol, self._probe, self._probe_floor2, self._k_rows, self._shared,
+            self._tempo_x, self._tempo_g)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:

@@ -71,6 +71,7 @@ class GroupArrays:
         self._drift = np.zeros(len(self._owner))      # ... the last one's, and its run (_drifts)
         self._drift_run = np.zeros(len(self._owner))
         self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
+        self._once = np.zeros(len(self._owner), dtype=bool)   # barred since it began (blocked)
         # ... and where its current attempt began (validity.stalls)
         self._attempt_from = np.zeros(len(self._owner))
         # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
@@ -104,6 +105,11 @@ class GroupArrays:
         self._best = np.full(m, -1, dtype=np.intp)   # -1: none yet (ActionFollower._best)
         self._run = np.zeros(m, dtype=np.intp)
         self._run_k = np.full(m, -1, dtype=np.intp)   # whose samples _run counts (recognition)
+        # samples in a row best was blocked, whose, the best barred and the last freed (blocked)
+        self._blocked, self._blocked_k = np.zeros(m, dtype=np.intp), np.full(m, -1, dtype=np.intp)
+        self._barred, self._freed = np.full(m, -1, dtype=np.intp), np.full(m, -1, dtype=np.intp)
+        # the likeliest evidence but a barred best's and the others' sum of exp (blocked)
+        self._bar_top, self._bar_sum, self._bar_kept = np.zeros(m), np.ones(m), np.ones(m)
         self._lost = np.zeros(m, dtype=np.intp)
         self._ended = np.full(m, -1, dtype=np.intp)
         self._end_x = np.zeros((m, dmax))
@@ -130,14 +136,14 @@ class GroupArrays:
                      "_least", "_judged", "_at_hold_end", "_reached", "_probe")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
     _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone",
-                       "_attempt_from") + group_layout.SHAPE_LAGS
+                       "_attempt_from", "_once") + group_layout.SHAPE_LAGS
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
                    "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
                    "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
-                   "_lagged")
+                   "_lagged", "_blocked", "_blocked_k", "_barred", "_freed")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out
@@ -187,7 +193,8 @@ class GroupArrays:
                  "keep": lambda f: f.still_samples, "hint_onset": lambda f: f.hint_onset * f.sigma,
                  "end": lambda f: f.end, "null2": lambda f: f._null2,
                  "depart2": lambda f: (f.accept_distance * f.sigma) ** 2,
-                 "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim}
+                 "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim,
+                 "memory": lambda f: f.memory}
         cols = np.array([[float(rules[n](f)) for n in members.MEMBER_RULES] for f in fs])
         self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
         # the per-template state the compiled passes update, one row each of two arrays

@@ -22,9 +22,10 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (commitment, coverage, group_layout, group_steps, holding, invariance,
-                           members, path_kernel, reversal, rivals, shape_lead, size_probe,
-                           spotting, tempo, threshold, threshold_kernel, validity)
+from behaviors.mop import (blocked, commitment, coverage, group_layout, group_steps, holding,
+                           invariance, member_validity, members, path_kernel, reversal, rivals,
+                           shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel,
+                           validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -34,7 +35,8 @@ from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG
 from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, input_reversal, reversal_size
-from behaviors.mop.members import committed
+from behaviors.mop.member_validity import slow_of
+from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import COMMIT_LAGS, add_lagged
 from behaviors.mop.rivals import BROADER
@@ -45,9 +47,9 @@ from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_R
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, commitment, coverage, group_layout, group_steps, holding,
-               invariance, members, path_kernel, reversal, rivals, shape_lead, size_probe,
-               spotting, tempo, threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, group_layout, group_steps,
+               holding, invariance, member_validity, members, path_kernel, reversal, rivals,
+               shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -62,13 +64,13 @@ _S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
                      numba.int64[::1], _F1, _F3, _F3, _I2, numba.intp, numba.intp, numba.float64,
                      numba.float64, _F2, _B1, _I2, _F2, _BB2, _B1, _F2, _S2, _S1, _S1, _F2, _F1,
-                     _F1, _I1, _F1, _F2, _F1, _F2),
+                     _F1, _I1, _F1, _F2, _F1, _F2, _I1, _F3, _F2),
            *_CALLS_INTO, fastmath=CONTRACT, _nrt=False)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      vectors, buf, ints, before, after, rival_p, min_lead, k_out, new_out,
                      top3_out, m_floats, m_flags, present, means, thr_means, alpha, scratch,
                      thr_z, thr_lj, thr_tops, reversal_at, reversal_tol, probe,
-                     probe_floor2, rows) -> None:
+                     probe_floor2, rows, shared, tempo_x, tempo_g) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -98,13 +100,17 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     each template's tolerance there
     (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`); ``probe`` (K, 4),
     ``probe_floor2`` (K,): :mod:`~behaviors.mop.size_probe`'s sums and floor. ``means``,
-    ``thr_means``: the states' means (D, S), the threshold model's in float32."""
+    ``thr_means``: the states' means (D, S), the threshold model's in float32. ``shared``,
+    ``tempo_x``, ``tempo_g``: as :func:`members.conclude`'s (a barred best's release,
+    :mod:`~behaviors.mop.blocked`)."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
+    sh_off, barred, freed = ints[2], ints[21], ints[22]
+    bar_top, bar_sum, bar_kept = m_floats[13], m_floats[14], m_floats[15]
     drive_from, drive_peak, drive_moved = m_floats[5], m_floats[6], m_flags[8]
     progress_out, mean_ll_out, p_out = k_out[0], k_out[1], k_out[2]
     moving_out, thr_ev, kept_out, thr_total, shape_n = (m_floats[0], m_floats[1], m_floats[2],
@@ -412,8 +418,25 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
         kept_out[i] = kept
         gb = a0 + best[i]
-        if best[i] < 0 or ev[first] - ev[gb] > margin or refused[gb]:
-            gb = first
+        # a best blocked BLOCKED_SAMPLES in a row is barred while it leads, until it began anew
+        # or may drive (recognition, blocked)
+        fb, bar = first, barred[i]
+        if bar >= 0:
+            kb = a0 + bar
+            gk = min(mean[kb], ti[kb, 1] - 1.0)
+            if kb != first or new_out[kb] or not (
+                    (sh_off[i] >= 0 and shares(a0, a1, kb, int(ti[kb, 0] + gk) - ti[kb, 0],
+                                               shared, sh_off[i], refused, misshaped,
+                                               progress_out, gone))
+                    or slow_of(i, kb, gk, x, tempo_x, tempo_g, ints[14], ints[15], tc, sc0,
+                               size[kb], dims, onset_sigma)):
+                freed[i], bar = bar, -1
+                barred[i] = -1
+        if bar >= 0:
+            fb = blocked.likeliest_other(ev, a0, a1, a0 + bar)
+        if (best[i] < 0 or ev[fb] - ev[gb] > margin or refused[gb]
+                or (bar >= 0 and gb == a0 + bar)):
+            gb = fb
         # committed to by shape (ShapeLead._committed): best, however improbable
         shape_n[i] += spots
         c = -1   # (searched only where the threshold model allows it, as _committed)
@@ -423,13 +446,24 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         if committed_out[i]:
             gb = c
         best[i] = gb - a0
+        # the probabilities the rivals are read at: among the templates but a barred best
+        # (blocked; ``fb``: the likeliest of them), kept for members.conclude
+        bk, others = -1, 1.0
+        if bar >= 0 and a0 + bar != gb:
+            bk, others = a0 + bar, blocked.others_total(ev, a0, a1, a0 + bar, fb)
+        bar_top[i], bar_sum[i] = ev[fb], others
+        kept_o = kept   # ... and the threshold model's share against the likeliest of them
+        if bk >= 0 and math.isfinite(m[18]):
+            kept_o = others / (others + math.exp(min(thr_ev[i] - ev[fb], 700.0)))
+        bar_kept[i] = kept_o
         rival = np.inf
         spread = tc[gb, 0] + dims * math.log(size[gb])
         for k in range(a0, a1):
             if k == gb or refused[k] or shape[k] >= rival:
                 continue
             # ... or broader and alike in shape (rivals.broad_rivals)
-            if p_out[k] * kept >= rival_p or (
+            pk = p_out[k] if bk < 0 else (0.0 if k == bk else math.exp(ev[k] - ev[fb]) / others)
+            if pk * kept_o >= rival_p or (
                     engaged[k] and covered[k] and not misshaped[k]
                     and progress_out[k] >= gone[k] - SHARE_BACK
                     and abs(shape[k] - shape[gb]) < min_lead

@@ -127,6 +127,9 @@ class GroupRules:
         for a in (self._run, self._lost, self._after_end):
             a[rows] = 0
         self._best[rows] = -1
+        self._blocked[rows], self._blocked_k[rows] = 0, -1
+        self._barred[rows], self._freed[rows] = -1, -1
+        self._once[self._owner_of(rows)] = False
         self._acquired[rows] = -1
         self._drive_k[rows] = -1
         self._drive_moved[rows] = False

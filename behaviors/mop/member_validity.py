@@ -165,6 +165,26 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
     return out
 
 
+@compiled(numba.boolean(numba.intp, numba.intp, numba.float64, _F2, _F3, _F2, _I1, _I1, _F2,
+                        numba.intp, numba.float64, numba.float64, numba.float64), *_CALLS_INTO)
+def slow_of(i: int, k: int, state: float, x: np.ndarray, past_x: np.ndarray,
+            past_g: np.ndarray, at: np.ndarray, seen: np.ndarray, scale: np.ndarray, c0: int,
+            size: float, dims: float, onset: float) -> bool:
+    """:meth:`Validity._slow_take` of member ``i``'s template ``k`` (group index; ``state``:
+    its followed state, ``mean`` clipped to the template) against the oldest sample the ring
+    keeps (before :func:`tempo` keeps this one); ``scale[k, c0:]``: its spread, at ``size``."""
+    w = TEMPO_SAMPLES
+    if seen[i] < w or LEAST_TEMPO <= 0:
+        return False
+    a = at[i]
+    tot = 0.0
+    for c in range(x.shape[1]):
+        r = (x[i, c] - past_x[a, i, c]) / (scale[k, c0 + c] * size)
+        tot += r * r
+    return (math.sqrt(tot / dims) >= onset
+            and abs(state - past_g[a, k]) < LEAST_TEMPO * w)
+
+
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
                      _F1, numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,

@@ -20,8 +20,9 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import (gesture_end, handover, member_buffer, member_validity, overrun,
-                           path_kernel, shape_lead, spotting, take_fit, tempo, validity)
+from behaviors.mop import (blocked, gesture_end, handover, member_buffer, member_validity,
+                           overrun, path_kernel, shape_lead, spotting, take_fit, tempo, validity)
+from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
 from behaviors.mop.gesture_end import END_GRACE, MOVE_RADII, RETURN_BACK, RETURN_RADIUS
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
 # (members.push and the rest of the buffer's stay importable from here)
@@ -35,8 +36,8 @@ from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
 # and take_fit's through member_validity's)
-_CALLS_INTO = (gesture_end, handover, member_buffer, member_validity, overrun, path_kernel,
-               shape_lead, spotting, take_fit, tempo, validity)
+_CALLS_INTO = (blocked, gesture_end, handover, member_buffer, member_validity, overrun,
+               path_kernel, shape_lead, spotting, take_fit, tempo, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -46,9 +47,9 @@ _BB2 = numba.boolean[:, ::1]
 #: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
 #: every template was refused too long; the input is still and waiting (anchored at its mean).
 GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING = range(5)
-#: Per-member scalars (columns of ``mk`` (M, 13 + 2D), then the rows ``radius`` and ``units``).
+#: Per-member scalars (columns of ``mk`` (M, 14 + 2D), then the rows ``radius`` and ``units``).
 MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep",
-                "hint_onset", "end", "null2", "depart2", "lost_after", "dims")
+                "hint_onset", "end", "null2", "depart2", "lost_after", "dims", "memory")
 _RAD = len(MEMBER_RULES)
 #: The members' own arrays of a follower group (its attributes of these names), each a row of
 #: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
@@ -56,10 +57,11 @@ _RAD = len(MEMBER_RULES)
 MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
-               "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n")
+               "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n", "_blocked",
+               "_blocked_k", "_barred", "_freed")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
                  "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last",
-                 "_drive_leapt")
+                 "_drive_leapt", "_bar_top", "_bar_sum", "_bar_kept")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
@@ -237,6 +239,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     acquired, nbuf, lost, after_end = ints[6], ints[7], ints[8], ints[9]
     drive_k, peak_k, restart = ints[10], ints[11], ints[12]
     end_history_n, lagged = ints[16], m_flags[13]
+    counts, blocked_n, blocked_k, barred, freed = ints[1], ints[19], ints[20], ints[21], ints[22]
+    once = flags[5]   # (group_layout.FLAGS)
     moving, kept, drive_from, drive_peak, peak = (m_floats[0], m_floats[2], m_floats[5],
                                                   m_floats[6], m_floats[7])
     drive_leapt = m_floats[12]
@@ -254,6 +258,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         spots = m[2] > 0.0
         bi = best[i]
         gb = bounds[i] + bi
+        a1 = bounds[i + 1] if i + 1 < bounds.size else ti.shape[0]
         start, length, off = ti[gb, 0], ti[gb, 1], ti[gb, 2]
         g = start + min(mean[gb], length - 1.0)
         gs = min(int(g), start + length - 2) + off
@@ -271,18 +276,34 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             push(buf, nbuf, x, i, int(m[6]))
         st = still(buf, nbuf, i, int(m[6]), radius)
         rests = rest[i]   # tempo.resting, the holds' flag (group_kernel.update_templates)
+        # the probability the validity reads: a barred best's share left out (blocked)
+        pv = p[gb] * kept[i]
+        if barred[i] >= 0 and barred[i] != bi:   # (update_templates: among the others)
+            pv = math.exp(floats[0, gb] - m_floats[13, i]) / m_floats[14, i] * m_floats[15, i]
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
-              and spread2 <= m[0] and (p[gb] * kept[i] >= m[1] or committed[i]) and not moved)
+              and spread2 <= m[0] and (pv >= m[1] or committed[i]) and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does
         # and its start is no longer shared with another the input still fits (spotting)
         # ... and no action drives once it crawled CRAWL_SAMPLES samples in a row (crawls)
         # ... nor once the input drifted further off it DRIFT_SAMPLES in a row (_drifts)
-        ok = ok and not (spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and not (
+        for k in range(bounds[i], a1):   # (barred since it began: blocked)
+            if new[k]:
+                once[k] = False
+        sh = spots and sh_off[i] >= 0 and shares(bounds[i], a1, gb, int(g) - start, shared,
+                                                 sh_off[i], refused, misshaped, progress, highest)
+        ok = ok and not (spots and once[gb]) and not (
+            spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and not (
             spots and 0 < DRIFT_SAMPLES <= drift_run[gb]) and (
-            not spots or acquired[i] == bi or (
-            leads[i] and turn_ok[i] and not (sh_off[i] >= 0 and shares(
-                bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb,
-                int(g) - start, shared, sh_off[i], refused, misshaped, progress, highest))))
+            not spots or acquired[i] == bi or (leads[i] and turn_ok[i] and not sh))
+        if spots:   # (blocked: taken at a crawl at a small size, not driving)
+            blk = acquired[i] != bi and engaged[gb] and sk < BLOCKED_SIZE and crawl[i, 0] > 0
+            blocked_n[i] = (blocked_n[i] + 1 if blocked_k[i] == bi else 1) if blk else 0
+            blocked_k[i] = bi
+            if counts[i] > 1 and (0 < BLOCKED_SAMPLES <= blocked_n[i]
+                                  or (blk and bi == freed[i])) and blocked.lead_of_size(
+                    floats[0], bounds[i], a1, gb, sk, m[12], m[13]):
+                barred[i] = bi
+                once[gb] = True
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
             last = progress[gb]   # (its followed state's last step)
             if end_history_n[i] > 0 and peak_k[i] == bi:

@@ -90,6 +90,8 @@ import math
 
 import numpy as np
 
+from behaviors.mop.blocked import (BLOCKED_SAMPLES, BLOCKED_SIZE, blocked_run, lead_of_size,
+                                   likeliest_other)
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
@@ -215,18 +217,33 @@ class Recognition:
         # (after _restart_here): runs 4/3/7/2/2/3 3/6/4/2/2/2, within 20% unchanged, sized
         # 101-106 still lower on every seed (0.9022 -> 0.8984 on 101), unrelated 104 0.1112 ->
         # 0.1135.
-        # Measured and not kept: a best taken at a crawl below 0.8 size for 4 samples barred
-        # from best while it leads (best the likeliest of the others, validity read among them,
-        # the barred one not driving until it begins anew): held-out sized valid after 30%
-        # 101-106 / 107-112 mean 0.9000 / 0.8944 -> 0.9008 / 0.8960 (the getup wrist at 1.4x
-        # under the kick's wrist sized 0.63: 0.432 -> 0.659), unrelated and sequences unchanged;
-        # but follow_quality tuned sized 0.9124 -> 0.9087, held-out aspect 1.1 0.8674 -> 0.8500,
-        # bent 5% 0.7461 -> 0.7448, after a gesture mean 0.0584 -> 0.0587. Barred for sharing
-        # its start too, or at any size: unrelated worst 107-112 0.1154 -> 0.1484.
-        if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
-                or self._refused[self._best]):
-            self._best = top
+        # (each template's path misfit first: the barred best's release reads it)
         self._judge_shape(x, g, new, rests)
+        # a small best kept from driving BLOCKED_SAMPLES in a row is barred while it leads
+        # and a rival trails it by no more than its size earns it (blocked.lead_of_size);
+        # freed once it no longer leads, began anew, or may drive (_gone: as _shares reads it
+        # below). bench/follow_quality.py: held-out sized valid after 30% 0.9066 -> 0.9076 (the
+        # getup wrist at 1.4x under the kick's wrist sized 0.7), held-out bent 10% 0.4691 ->
+        # 0.4704, every other figure unchanged. Barred with no rival near too: tuned sized
+        # 0.9124 -> 0.9087 (the 0.7x spin ankle barred after its pause, 0.383 -> 0.021),
+        # held-out aspect 1.1 0.8674 -> 0.8500 (a dance ankle, 0.696 -> 0).
+        # bench/follow_seeds.py --sections=sized,unrelated,sequences 107-112: sized valid after
+        # 30% 0.8919/0.8828/0.8938/0.9066/0.8963/0.8950 -> 0.8925/0.8851/0.8938/0.9087/0.8989/
+        # 0.8972, told unrelated worst 109 0.0912 -> 0.0663; 101-106 sized mean 0.9000 ->
+        # 0.9008 (101 / 102 / 103 up), told 106 0.0562 -> 0.0438; the rest unchanged.
+        barred = self._barred
+        if barred >= 0:
+            np.maximum(self._gone, progress, out=self._gone)
+            if barred != top or new[barred] or not (
+                    self._shares(barred, float(g[barred]), progress)
+                    or self._slow_take(barred, g, x)[0]):
+                self._freed, barred = barred, -1   # (barred at once if blocked again)
+                self._barred = -1
+        if barred >= 0:
+            top = likeliest_other(self._evidence, 0, len(self.names), barred)
+        if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
+                or self._refused[self._best] or self._best == barred):
+            self._best = top
         committed = -1   # committed to by shape: best, however improbable (spotting)
         if self.invariance != "none":
             self._add_shape(x, gi, g - gi)
@@ -242,16 +259,27 @@ class Recognition:
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         still = self._still(x)
+        # the probabilities the validity reads: among the templates but a barred best (blocked;
+        # ``top``: the likeliest of them)
+        pv, kept = p, self._kept
+        if barred >= 0 and barred != bi:
+            pv = np.exp(self._evidence - self._evidence[top])
+            pv[barred] = 0.0
+            others = pv.sum()
+            pv /= others
+            if math.isfinite(self.threshold):
+                rival = self._threshold_ev - self._evidence[top]
+                kept = others / (others + math.exp(min(rival, 700.0)))
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
-                  and (p_list[bi] * self._kept >= self.min_probability or committed == bi)
+                  and (pv[bi] * kept >= self.min_probability or committed == bi)
                   and (self._end_x is None or not self._moved_on(x, bi)))
         overran = False
         if self.invariance != "none":
             # each template's highest progress (spotting._shares, shape_lead._broad_rivals)
             np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (shape_lead.LEAD)
-            leads = self._leads(bi, p * self._kept, progress)
+            leads = self._leads(bi, pv * kept, progress)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (tempo.slow_take); nor does any action
@@ -271,9 +299,25 @@ class Recognition:
                                                                   self._underway_rested, rests)
             self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
                                                                   self._abandon_rested, rests)
-            ok = ok and not crawls(self._crawl) and not self._drifts(bi) and (
+            shares = self._shares(bi, float(g[bi]), progress)
+            # ... nor one barred since it began (blocked)
+            self._once[new] = False
+            ok = ok and not self._once[bi] and not crawls(self._crawl)
+            ok = ok and not self._drifts(bi) and (
                 self._acquired == bi or (leads and turned and not slow and not back
-                                         and not self._shares(bi, float(g[bi]), progress)))
+                                         and not shares))
+            # (blocked: taken at a crawl at a small size, not driving)
+            blocked = (self._acquired != bi and bool(self._engaged[bi])
+                       and self._size[bi] < BLOCKED_SIZE and self._crawl > 0)
+            self._blocked = blocked_run(self._blocked, bi == self._blocked_k, blocked)
+            self._blocked_k = bi
+            # ... while a rival may trail it by no more than its small size earns it
+            if len(self.names) > 1 and (0 < BLOCKED_SAMPLES <= self._blocked
+                                        or blocked and bi == self._freed) and lead_of_size(
+                    self._evidence, 0, len(self.names), bi, float(self._size[bi]),
+                    float(self.dim), self.memory):
+                self._barred = bi
+                self._once[bi] = True
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # (its followed state's last step: the action's progress at the last sample)
