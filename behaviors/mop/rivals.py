@@ -141,7 +141,9 @@ summed standardized fit within 1 deviation of the action's): figures as Z 3. Z 2
 0.8962, 0.8944 -> 0.8903; 105 0.8937 -> 0.8823), and with shared starts off (``share_radius`` 0) a
 line waits for the square up to 0.42 of it (0.35). Z 2 only for a rival broader than the action
 (its Jacobian at its size): runs 110 and 112 4 -> 2, 103's 7 stays; valid after 30% on 105 0.8937
--> 0.8831.
+-> 0.8831. Z 3 only for a rival fitting the part seen at least as well in shape: runs 103 7 -> 2,
+110 and 112 4 -> 2 (102's 5 stays), but within 20% 104 0.313 -> 0.281 and valid after 30% on 105
+0.8937 -> 0.8814: the getup wrist fits a true dance ankle's start better in shape too.
 """
 
 from __future__ import annotations
