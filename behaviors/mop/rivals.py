@@ -123,6 +123,27 @@ true punch from rest recognised at 0.197 -> 0.277, spins 0.270 -> 0.322) and val
 -> 2 and 111 5 -> 2, every within-20% share unchanged, but ``bench/follow_quality.py`` valid after
 30% 0.9124 -> 0.9107 (tuned; held-out 106 0.8910 -> 0.8909): true spins wait for the circle's
 start as long.
+Measured and not kept: a rival within the evidence's own noise. Each sample's log-likelihood under
+a template's Gaussian varies by sqrt(d / 2) nats on its own spread, two templates' difference by
+sqrt(d), so their evidence difference after n samples (forgotten over ``memory``) by sqrt(d * sum
+of decay^(2i), i < n): 4.2 nats 20 samples into a gesture. At the wrong takes above the true
+template lay 6.7-12.2 nats behind (109's punch 46), 13-29 samples in; the 108 right takes within
+20% led their runner-up by a median 9.1 (52 by under 8.5). Any template within Z such deviations
+behind the action, whatever its probability, made a rival
+(:meth:`~behaviors.mop.shape_lead.ShapeLead._leads`; follower and group kernel).
+``bench/follow_seeds.py --sections=sequences`` (101-112), twenty longest wrong run 4/5/7/2/2/4 and
+3/6/4/4/5/4: Z 2 -> 110 and 112 4 -> 2, every within-20% share and six-gesture figure unchanged; Z
+3 also 103 7 -> 2, 106 4 -> 3, but within 20% 104 0.313 -> 0.281 (a true dance ankle from rest
+0.191 -> 0.212, held by the getup wrist and the square, 10-12 nats behind and ahead of it in
+shape); Z 5 also 102 0.281 -> 0.250. Only where the rival also agrees over the part seen (its
+summed standardized fit within 1 deviation of the action's): figures as Z 3. Z 2
+``--sections=sized,unrelated``: valid after 30% at 0.7-1.4x lower on every seed (mean 0.9000 ->
+0.8962, 0.8944 -> 0.8903; 105 0.8937 -> 0.8823), and with shared starts off (``share_radius`` 0) a
+line waits for the square up to 0.42 of it (0.35). Z 2 only for a rival broader than the action
+(its Jacobian at its size): runs 110 and 112 4 -> 2, 103's 7 stays; valid after 30% on 105 0.8937
+-> 0.8831. Z 3 only for a rival fitting the part seen at least as well in shape: runs 103 7 -> 2,
+110 and 112 4 -> 2 (102's 5 stays), but within 20% 104 0.313 -> 0.281 and valid after 30% on 105
+0.8937 -> 0.8814: the getup wrist fits a true dance ankle's start better in shape too.
 """
 
 from __future__ import annotations
