@@ -26,10 +26,10 @@ from behaviors.mop import (blocked, commitment, coverage, group_layout, group_st
                            invariance, member_validity, members, path_kernel, reversal, rivals,
                            shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel,
                            validity)
-from behaviors.mop.compiled import CONTRACT, prefetch
+from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
-from behaviors.mop.group_steps import first_max, top_three
+from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
@@ -38,7 +38,7 @@ from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, input_reversal, revers
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
-from behaviors.mop.commitment import COMMIT_LAGS, add_lagged
+from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
 from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
@@ -120,7 +120,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
     covered, at_hold_end = flags[3], flags[4]
     d = x.shape[1]
-    s = buf.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
     sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
@@ -137,24 +136,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         null2, accept2, onset_sigma, scaled, lo, hi = m[5], m[6], m[7], m[8] > 0.0, m[9], m[10]
         misfit_decay, shape2, shape_accept2, path_scale = m[11], m[12], m[13], m[14]
         spots, none, margin = m[15], m[16] > 0.0, m[17]
-        # the mean of the last 3 buffered samples and this one (the engagement's displacement)
-        n = min(nbuf[i], 3)
-        for c in range(d):
-            tot = 0.0
-            for r in range(s - n, s):
-                tot += buf[i, r, c]
-            away[c] = (tot + x[i, c]) / (n + 1) - anchor[i, c]
-            dx[c] = x[i, c] - anchor[i, c]
-            # the same quotient as each template took, once per member; with the rejudging's
-            # logarithm taken only near its limit and the displacement's root of the largest
-            # (the same numbers to the bit): update_templates, no threshold model, DESIGN's tick,
-            # load 5: hot 150 -> 136 us p10, 171 -> 157 median; caches cold 171 -> 158, 201 -> 193
-            dxu[c] = dx[c] / m[un0 + c]
+        far = displacements(buf, nbuf, x, anchor, m, un0, i, away, dx, dxu)
         moving = 0.0
-        far = 0.0   # the sample's distance from the anchor in units (the reach's least size)
-        for c in range(d):
-            far += dxu[c] ** 2
-        far = math.sqrt(far)
         rejudge_at = m[21]
         # sizes whose ratio to the judged one lies within these are surely within rejudge_at
         # (no logarithm needed: 1e-9 is far above its rounding; beyond them, the logarithm)
@@ -174,23 +157,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
-                h = k + AHEAD
-                row0 = int(ti[h, 0] + min(mean[h], ti[h, 1] - 1.0)) + ti[h, 2]
-                first_h, end_h = ti[h, 0] + ti[h, 2], ti[h, 0] + ti[h, 1] + ti[h, 2]
-                # (the rows its timing offsets read too, commitment.add_lagged, and its last:
-                # update_templates p10 788, 793 -> 724, 708 us, add_lagged's share of the
-                # tick's perf samples 11% -> 5%, alternating processes at load 25)
-                for r in range(max(row0 - COMMIT_LAGS, first_h), min(row0 + COMMIT_LAGS + 2,
-                                                                      end_h)):
-                    prefetch(states, r)
-                prefetch(states, end_h - 1)
-                # ... and the path's segment means from ``means`` (D, S): eight cache lines a
-                # template read from ``states``' 64-byte rows, two from here (DESIGN's tick, load
-                # 18: update_templates 0.677 -> 0.629 ms, the tick 1.476 -> 1.396 ms median)
-                r0, r1 = max(row0 - before, first_h), min(row0 + after + 1, end_h - 1)
-                for c in range(d):
-                    prefetch(flat, c * n_states + r0)
-                    prefetch(flat, c * n_states + r1)
+                prefetch_ahead(states, flat, ti, mean, k + AHEAD, before, after, d, n_states)
             t = tc[k]
             start, lk, off = ti[k, 0], ti[k, 1], ti[k, 2]
             # followed state and progress (ActionFollower._finish)

@@ -1,7 +1,8 @@
 """A follower group's small compiled steps around its per-template pass
 (:mod:`behaviors.mop.group_kernel`): the members' samples taken in, mapped into every template's
-units for the forward step, and each member's likeliest templates among its own (a slice of the
-group's). Each equals the numpy operations named in its docstring.
+units for the forward step, each member's likeliest templates among its own (a slice of the
+group's), its displacements from its anchor, and what a template a few ahead will read, fetched. Each equals the numpy operations
+named in its docstring.
 """
 
 from __future__ import annotations
@@ -12,14 +13,17 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop.compiled import CONTRACT
+from behaviors.mop import commitment
+from behaviors.mop.commitment import COMMIT_LAGS
+from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in
-_CALLS_INTO = (behaviors.mop.compiled,)
+_CALLS_INTO = (behaviors.mop.compiled, commitment)
 
 _F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
-_I1, _B1 = numba.intp[::1], numba.boolean[::1]
+_I1, _B1, _I2 = numba.intp[::1], numba.boolean[::1], numba.intp[:, ::1]
+_F3 = numba.float64[:, :, ::1]
 
 
 @compiled(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), *_CALLS_INTO, fastmath=CONTRACT)
@@ -91,3 +95,57 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
         if values[k] > values[best]:
             best = k
     return best
+
+
+@compiled(numba.void(_F2, _F1, _I2, _F1, numba.intp, numba.intp, numba.intp, numba.intp,
+                     numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
+def prefetch_ahead(states: np.ndarray, flat: np.ndarray, ti: np.ndarray, mean: np.ndarray,
+                   h: int, before: int, after: int, d: int, n_states: int) -> None:
+    """Start loading what template ``h`` (a few ahead of the one the group's per-template pass
+    works on) will read around its followed state ``mean[h]``: its rows of ``states`` and the
+    path's segment means from ``flat`` (the states' means (D, S) as one row); no effect on
+    results. ``ti``, ``before``, ``after``: as the per-template pass's."""
+    row0 = int(ti[h, 0] + min(mean[h], ti[h, 1] - 1.0)) + ti[h, 2]
+    first_h, end_h = ti[h, 0] + ti[h, 2], ti[h, 0] + ti[h, 1] + ti[h, 2]
+    # (the rows its timing offsets read too, commitment.add_lagged, and its last:
+    # update_templates p10 788, 793 -> 724, 708 us, add_lagged's share of the
+    # tick's perf samples 11% -> 5%, alternating processes at load 25)
+    for r in range(max(row0 - COMMIT_LAGS, first_h), min(row0 + COMMIT_LAGS + 2, end_h)):
+        prefetch(states, r)
+    prefetch(states, end_h - 1)
+    # ... and the path's segment means: eight cache lines a template read from ``states``'
+    # 64-byte rows, two from here (DESIGN's tick, load 18: update_templates 0.677 -> 0.629 ms,
+    # the tick 1.476 -> 1.396 ms median)
+    r0, r1 = max(row0 - before, first_h), min(row0 + after + 1, end_h - 1)
+    for c in range(d):
+        prefetch(flat, c * n_states + r0)
+        prefetch(flat, c * n_states + r1)
+
+
+@compiled(numba.float64(_F3, _I1, _F2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1),
+          *_CALLS_INTO, fastmath=CONTRACT)
+def displacements(buf: np.ndarray, nbuf: np.ndarray, x: np.ndarray, anchor: np.ndarray,
+                  m: np.ndarray, un0: int, i: int, away: np.ndarray, dx: np.ndarray,
+                  dxu: np.ndarray) -> float:
+    """Member ``i``'s displacements from its anchor (raw units): ``away``, of the mean of its
+    last 3 buffered samples and this one (the engagement's); ``dx``, of this sample; ``dxu``,
+    of this sample in its units (``m[un0:]``, its row of the member scalars); returns the
+    length of ``dxu`` (the sample's distance from the anchor in units: the reach's least
+    size)."""
+    s, d = buf.shape[1], x.shape[1]
+    n = min(nbuf[i], 3)
+    for c in range(d):
+        tot = 0.0
+        for r in range(s - n, s):
+            tot += buf[i, r, c]
+        away[c] = (tot + x[i, c]) / (n + 1) - anchor[i, c]
+        dx[c] = x[i, c] - anchor[i, c]
+        # the same quotient as each template took, once per member; with the rejudging's
+        # logarithm taken only near its limit and the displacement's root of the largest
+        # (the same numbers to the bit): update_templates, no threshold model, DESIGN's tick,
+        # load 5: hot 150 -> 136 us p10, 171 -> 157 median; caches cold 171 -> 158, 201 -> 193
+        dxu[c] = dx[c] / m[un0 + c]
+    far = 0.0
+    for c in range(d):
+        far += dxu[c] ** 2
+    return math.sqrt(far)
