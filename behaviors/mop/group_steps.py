@@ -1,8 +1,8 @@
 """A follower group's small compiled steps around its per-template pass
 (:mod:`behaviors.mop.group_kernel`): the members' samples taken in, mapped into every template's
 units for the forward step, each member's likeliest templates among its own (a slice of the
-group's), its displacements from its anchor, and what a template a few ahead will read, fetched. Each equals the numpy operations
-named in its docstring.
+group's), its displacements from its anchor, and what a template a few ahead will read,
+fetched. Each equals the numpy operations named in its docstring.
 """
 
 from __future__ import annotations
