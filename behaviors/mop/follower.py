@@ -268,12 +268,11 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
             self._entries = np.zeros(k, dtype=np.int64)
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
             self._least, self._judged = np.zeros(k), np.ones(k)
-            self._held_lead = np.zeros(k)   # behaviors.mop.invariance.HELD_LEAD
             self._at_hold_end = np.zeros(k, dtype=bool)
             self._probe = np.zeros((k, 3))   # behaviors.mop.size_probe
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
                   self._entries, self._num, self._den, self._least, self._at_hold_end,
-                  self._probe, self._held_lead):
+                  self._probe):
             a.fill(0)
         self._size.fill(1.0)
         self._judged.fill(1.0)

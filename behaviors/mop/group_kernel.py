@@ -26,7 +26,6 @@ from behaviors.mop import (blocked, commitment, coverage, group_layout, group_st
                            invariance, member_validity, members, path_kernel, reversal, rivals,
                            shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel,
                            validity)
-from behaviors.mop import held_lead as held_lead_module
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -34,8 +33,7 @@ from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.held_lead import held_lead
-from behaviors.mop.invariance import ALONG, HELD_LEAD
+from behaviors.mop.invariance import ALONG
 from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, input_reversal, reversal_size
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
@@ -51,8 +49,7 @@ from behaviors.kernel_cache import compiled
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, group_layout, group_steps,
                holding, invariance, member_validity, members, path_kernel, reversal, rivals,
-               shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel, validity,
-               held_lead_module)
+               shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -109,7 +106,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
-    held = floats[15]   # (held_lead)
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -176,7 +172,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             for c in range(d):
                 tu[c] = m[un0 + c]
             turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
-        top_ev, top_rj = -math.inf, False   # the first likeliest, judged afresh (held_lead)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
@@ -274,11 +269,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 rw[k] = rw[k] * null_decay + 1.0
             # judged afresh once the size moved (PerformanceFrame._rejudge)
             ratio = size[k] / judged[k]
-            rj = (scaled and not (inside_lo < ratio < inside_hi)
-                  and abs(math.log(ratio)) > rejudge_at)
-            if k == a0 or ev[k] > top_ev:
-                top_ev, top_rj = ev[k], rj
-            if rj:
+            if scaled and not (inside_lo < ratio < inside_hi) and abs(math.log(ratio)) > rejudge_at:
                 judged[k] = size[k]
                 rec[k] = log_constant
                 rw[k] = 1.0
@@ -424,9 +415,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     thr_x[i, c] = x[i, c]
                 thr_has_x[i] = True
                 thr_ev[i] = thr_ev[i] * decay + step
-            if scaled and HELD_LEAD > 0:
-                thr_ev[i] = held_lead(ev, size, judged, held, a0, a1, first, top_rj, thr_ev[i],
-                                      HELD_LEAD * rejudge_at)
             kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
         kept_out[i] = kept
         gb = a0 + best[i]

@@ -173,10 +173,6 @@ REACH_BOUND = 1.0
 #: A template's refusal and path misfit are judged afresh once its size estimate moved by this
 #: factor since they began (0: never).
 REJUDGE = 1.2
-#: A template judged afresh while it has the most evidence takes back the lead its evidence had
-#: over the threshold model's while its size was within this share of REJUDGE's (in log) of
-#: the one judged, never more (0: not).
-HELD_LEAD = 0.25
 #: The weight, in the size's least squares, of what lies along the template's direction at the
 #: followed state (1: all of it; across that direction always whole).
 ALONG = 0.5
@@ -364,19 +360,18 @@ class PerformanceFrame:
             if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
                 self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
 
-    def _rejudge(self) -> np.ndarray | None:
+    def _rejudge(self) -> None:
         """Templates whose size estimate moved by :data:`REJUDGE` since their recent likelihood
         and path misfit began to be remembered forget them, as a performance begun anew: they
         were judged at a size now known wrong (a 1.4x cartwheel's stroke was refused at size
         1.23 on its way to 1.40)."""
         if self.invariance != "scale" or self._rejudge_at == math.inf:
-            return None
+            return
         moved = np.abs(np.log(self._size / self._judged)) > self._rejudge_at
         if not np.count_nonzero(moved):
-            return None
+            return
         self._judged[moved] = self._size[moved]
         self._recent[moved] = self._log_constant
         self._recent_weight[moved] = 1.0
         self._misfit[moved] = 0.0
         self._misfit_w[moved] = 0.0
-        return moved

@@ -95,9 +95,7 @@ from behaviors.mop.blocked import (BLOCKED_SAMPLES, BLOCKED_SIZE, blocked_run, l
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
-from behaviors.mop.held_lead import held_lead
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
-from behaviors.mop.invariance import HELD_LEAD
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
 from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
@@ -156,7 +154,7 @@ class Recognition:
         if np.count_nonzero(back):
             back &= (self._log_constant - step_ll) * (2.0 / self._zdim) <= self._null2
             new |= back
-        moved = self._rejudge()
+        self._rejudge()
         if np.count_nonzero(new):
             self._gone[new] = 0.0
             self._attempt_from[new] = progress[new]
@@ -187,13 +185,8 @@ class Recognition:
         self._kept = 1.0
         if math.isfinite(self.threshold):
             # (not stepped either in such a pause: validity.unweighed)
-            thr = (self._threshold_evidence(x, self._anchor, float(raw_ll[top])) if weighed
-                   else self._threshold_ev)
-            if HELD_LEAD > 0 and self.invariance == "scale":   # (invariance.HELD_LEAD)
-                thr = self._threshold_ev = held_lead(
-                    self._evidence, self._size, self._judged, self._held_lead, 0, len(p), top,
-                    moved is not None and bool(moved[top]), thr, HELD_LEAD * self._rejudge_at)
-            rival = thr - self._evidence[top]
+            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top])) if weighed
+                     else self._threshold_ev) - self._evidence[top]
             self._kept = total / (total + math.exp(min(rival, 700.0)))
         lists = (progress.tolist(), p.tolist(), mean_ll.tolist())
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
