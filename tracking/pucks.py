@@ -236,9 +236,11 @@ class PuckTracker:
         meas = [float(m.x), float(m.y), old[2] + wrap_angle(m.angle - old[2])]  # angle unwrapped
         # Every sighting after a miss is a return, however short the gap. Taking one within
         # 0.2 s (a blurred puck read every few frames) as the same track instead, filtered
-        # from the coasting prediction, improved the shown pose under moderate blur (60 Hz,
-        # 9.6 mm: p95 14-19 -> 11-14 mm; 30 Hz, 6.4 mm: 78-81 -> 27-29 mm) but worsened it
-        # where 5-13% of frames are read (12-13 mm blur: p95 193 -> 229, 237 -> 273 mm).
+        # from the coasting prediction, its chord velocity scaled by its agreement with the
+        # one before, made the shown pose follow (four pucks circling at 720p, p95 while seen:
+        # 12 mm blur at 60 Hz 260-327 -> 131-153 mm; a hand over a 1 m/s puck at 30 Hz,
+        # 99-112 -> 14 mm), but overshot where 5-13% of frames are read and at reversals
+        # (12.8 mm blur, seen p95 187 -> 240 mm; back and forth at 1.5 m/s, p95 385 -> 435 mm).
         returning = tr.state == "coasting" or relocated
         if dt > 0.0:
             if relocated:
