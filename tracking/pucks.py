@@ -234,13 +234,13 @@ class PuckTracker:
         dt = t - tr.t
         old = tr.meas
         meas = [float(m.x), float(m.y), old[2] + wrap_angle(m.angle - old[2])]  # angle unwrapped
-        # Every sighting after a miss is a return, however short the gap. Taking one within
-        # 0.2 s (a blurred puck read every few frames) as the same track instead, filtered
-        # from the coasting prediction, its chord velocity scaled by its agreement with the
-        # one before, made the shown pose follow (four pucks circling at 720p, p95 while seen:
-        # 12 mm blur at 60 Hz 260-327 -> 131-153 mm; a hand over a 1 m/s puck at 30 Hz,
-        # 99-112 -> 14 mm), but overshot where 5-13% of frames are read and at reversals
-        # (12.8 mm blur, seen p95 187 -> 240 mm; back and forth at 1.5 m/s, p95 385 -> 435 mm).
+        # Every sighting after a miss is a return, however short the gap. Taking one within 0.2 s (a
+        # blurred puck read every few frames) as the same track instead, filtered from the coasting
+        # prediction, its chord velocity scaled by its agreement with the one before, with a
+        # returning gap held to 0.15 m, made the shown pose follow (four pucks at 720p, p95 while
+        # seen: 12 mm blur at 60 Hz 260-327 -> 127-138 mm; a hand over a 1 m/s puck at 30 Hz 99-112
+        # -> 14 mm), but a few figures grew (9.6 mm blur, back and forth: p95 16.2 -> 17.8 mm; 12.8
+        # mm at 30 Hz: p95 250 -> 260 mm, median 114 -> 119 mm): not done.
         returning = tr.state == "coasting" or relocated
         if dt > 0.0:
             if relocated:
