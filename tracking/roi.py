@@ -245,10 +245,10 @@ class MarkerTracker:
             found = set(ids.tolist())
             rest = {m: p for m, p in preds.items() if m not in found}
             if rest:
-                # A second, halved search of the crops still missing reads motion-blurred
-                # markers more often (12 mm blur, four pucks at 720p: 10-13% -> 14-17% of
-                # frames; 9.6 mm: 81-86% -> 88-91%), but the shown poses of pucks seen that
-                # sparsely got worse (p95 207-243 -> 215-257 mm): not done.
+                # A second, halved search of the crops still missing reads blurred markers more
+                # often (four pucks at 720p, 12 mm blur: 10-13% -> 14-17% of frames; 9.6 mm: 81-86%
+                # -> 88-91%), but pucks seen that sparsely were shown worse (p95 207-243 -> 215-257
+                # mm; with sparse sightings as one track, 385 -> 465 mm at reversals): not done.
                 ids2, c2 = self._detect_regions(grey, rest)
                 self.last_pass = "roi"
                 if len(ids2):
