@@ -235,12 +235,12 @@ class PuckTracker:
         old = tr.meas
         meas = [float(m.x), float(m.y), old[2] + wrap_angle(m.angle - old[2])]  # angle unwrapped
         # Every sighting after a miss is a return, however short the gap. Taking one within 0.2 s (a
-        # blurred puck read every few frames) as the same track instead, filtered from the coasting
-        # prediction, its chord velocity scaled by its agreement with the one before, with a
-        # returning gap held to 0.15 m, made the shown pose follow (four pucks at 720p, p95 while
-        # seen: 12 mm blur at 60 Hz 260-327 -> 127-138 mm; a hand over a 1 m/s puck at 30 Hz 99-112
-        # -> 14 mm), but a few figures grew (9.6 mm blur, back and forth: p95 16.2 -> 17.8 mm; 12.8
-        # mm at 30 Hz: p95 250 -> 260 mm, median 114 -> 119 mm): not done.
+        # blurred puck read every few frames) as the same track instead (filtered from the coasting
+        # prediction, its chord velocity scaled by its agreement with the one before, a returning
+        # gap held to 0.15 m) left no figure worse beyond the seed-to-seed spread (four pucks at
+        # 720p, nine seeds pooled; 12 mm blur at 60 Hz, p95 while seen 308 -> 139 mm; a hand over a
+        # 1 m/s puck at 30 Hz, 111 -> 14 mm), but a puck back 6 cm away within 0.2 s is then shown
+        # jumping 36 mm in one update, not reacquire_step_m (10 mm): not done.
         returning = tr.state == "coasting" or relocated
         if dt > 0.0:
             if relocated:
