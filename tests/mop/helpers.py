@@ -1,5 +1,7 @@
 """Helpers of the MOP engine tests beyond :mod:`tabletop.plugins.mop_table`."""
 
+from typing import Callable
+
 import numpy as np
 
 
@@ -27,6 +29,26 @@ def unrelated_at_1x(templates: dict[str, np.ndarray], name: str, seed: int) -> n
     path = unrelated_motions(rng, templates)[name]
     performance(rng, path, 0.7)
     return performance(rng, path, 1.0)[0]
+
+
+def group_beside_alone(make: Callable, streams: list[np.ndarray]) -> list[int]:
+    """Each of ``streams`` stepped by a member of one ``FollowerGroup`` (of ``make()``
+    followers) and by a follower of its own beside it: every state equal (valid, best, progress
+    to 1e-12) at every tick; returns each stream's valid ticks in the group."""
+    import math
+
+    from behaviors.mop.group import FollowerGroup
+    alone = [make() for _ in streams]
+    group = FollowerGroup([make() for _ in streams])
+    valid = [0] * len(streams)
+    for t in range(len(streams[0])):
+        together = group.step([s[t] for s in streams])
+        for j, (f, s, g) in enumerate(zip(alone, streams, together)):
+            a = f.step(s[t])
+            assert (a.valid, a.best) == (g.valid, g.best), t
+            assert math.isclose(a.progress, g.progress, rel_tol=1e-12, abs_tol=1e-12), t
+            valid[j] += g.valid
+    return valid
 
 
 def refused(tmp_path, mutate, *words: str, error: type = None) -> None:

@@ -8,8 +8,7 @@ import numpy as np
 
 from bench.follow_quality import gesture_templates, puck_follower, run
 from behaviors.mop import recognition, validity
-from behaviors.mop.group import FollowerGroup
-from tests.mop.helpers import unrelated_at_1x
+from tests.mop.helpers import group_beside_alone, unrelated_at_1x
 
 
 def _wander(seed: int = 32) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -37,14 +36,5 @@ def test_a_group_counts_a_leap_as_its_followers_alone():
     # followers' alone
     gestures, x = _wander()
     streams = [x, np.concatenate([x[:60], x[60:] * 1.3 - x[60] * 0.3])]
-    alone = [puck_follower(gestures) for _ in streams]
-    group = FollowerGroup([puck_follower(gestures) for _ in streams])
-    valid = [0, 0]
-    for t in range(len(x)):
-        together = group.step([s[t] for s in streams])
-        for j, (f, s, g) in enumerate(zip(alone, streams, together)):
-            a = f.step(s[t])
-            assert (a.valid, a.best) == (g.valid, g.best), t
-            assert math.isclose(a.progress, g.progress, rel_tol=1e-12, abs_tol=1e-12), t
-            valid[j] += g.valid
+    valid = group_beside_alone(lambda: puck_follower(gestures), streams)
     assert valid[0] <= 20, valid

@@ -2,14 +2,11 @@
 a spiral's second turn, begun at full pace through its start, is no circle's onset; the group
 decides it as its followers alone."""
 
-import math
-
 import numpy as np
 
 from bench.follow_quality import gesture_templates, puck_follower, run
 from behaviors.mop import under_way
-from behaviors.mop.group import FollowerGroup
-from tests.mop.helpers import unrelated_at_1x
+from tests.mop.helpers import group_beside_alone, unrelated_at_1x
 
 
 def _spiral_with_the_circle(seed: int = 11) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -36,14 +33,5 @@ def test_a_group_refuses_an_attempt_abandoned_under_way_as_its_followers_alone()
     # state equal to the followers' alone (the spiral, and its second turn drawn 1.3x larger)
     circle, x = _spiral_with_the_circle()
     streams = [x, np.concatenate([x[:40], x[40:] * 1.3 - x[40] * 0.3])]
-    alone = [puck_follower(circle) for _ in streams]
-    group = FollowerGroup([puck_follower(circle) for _ in streams])
-    valid = 0
-    for t in range(len(x)):
-        together = group.step([s[t] for s in streams])
-        for f, s, g in zip(alone, streams, together):
-            a = f.step(s[t])
-            assert (a.valid, a.best) == (g.valid, g.best), t
-            assert math.isclose(a.progress, g.progress, rel_tol=1e-12, abs_tol=1e-12), t
-            valid += g.valid
+    valid = sum(group_beside_alone(lambda: puck_follower(circle), streams))
     assert valid <= 10, valid   # measured 0 (36 on the spiral with the rule off)
