@@ -72,6 +72,18 @@ against 0.545). The stand cap after the smooth (step_detail.py) moves them 0.189
 standing main (the lover alone, misses (the engine's) on seeds 0-5 / 40-51 against 15 (2) / 29
 (6)): 0.189 -> 0.173, 17 (3) / 34 (7) (its still pace falls: fast and loops still/moving
 under). Not kept.
+
+Its sense held, in sign changes of the 1 s orbit a second beside a standing main (slow paths of
+seeds 0-5, 40-45, Python step): generated 1.02, its designer 1.95, shown 1.64; orbit there 0.199
+rad/s (designer 0.087). Three rules, the lover's misses (the engine's) on seeds 0-5 / 40-51 /
+128-139 against 15 (2) / 28 (5) / 27 (5): the steps since its sense last changed (the 0.5 s
+sum of its own angular steps round the main, at most the shown runs' 99th percentile) as a
+situation and coherence column at weight 0.5 over its spread (as features.since_push): flips
+0.66, orbit 0.181, 13 (1) / 32 (11) / 24 (5) (the match then takes moments deep in long runs,
+most beside a walking main); the coherence candidate (the shown moments in their order) taken
+whenever the live main stands: flips 1.09, orbit 0.160 (walking 0.368 -> 0.384), 11 (0) / 27
+(10) / 28 (6); only at moments whose shown main stood: flips 0.43, orbit 0.202, 15 (4) / 30
+(9) / 28 (6). None kept.
 """
 
 from __future__ import annotations
