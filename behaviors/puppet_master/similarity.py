@@ -83,7 +83,9 @@ situation and coherence column at weight 0.5 over its spread (as features.since_
 most beside a walking main); the coherence candidate (the shown moments in their order) taken
 whenever the live main stands: flips 1.09, orbit 0.160 (walking 0.368 -> 0.384), 11 (0) / 27
 (10) / 28 (6); only at moments whose shown main stood: flips 0.43, orbit 0.202, 15 (4) / 30
-(9) / 28 (6). None kept.
+(9) / 28 (6). None kept. The second lowers the standing part as meant, but its slow orbit
+misses (the engine's) go 3 -> 6: the figure sits under its band once the walking part (0.368,
+shown 0.545) is no longer lifted by the standing one.
 """
 
 from __future__ import annotations

@@ -140,8 +140,9 @@ class GenerationStep(StepDetail):
                 # disc by a main walking into it at 0.076 m/s. Its main's step toward it carried
                 # whole there, friend misses (the engine's) on seeds 0-5 / 40-51 / 128-139,
                 # Python step, against 2 (2) / 4 (3) / 4 (4): under 0.08 m 2 (2) / 5 (5) / 6 (6)
-                # (loops contact 0.038 -> 0.030, shown 0.041); after 0.35 s 1 (1) / 5 (4) / 3
-                # (3); on the disc 2 (2) / 5 (4) / 4 (4). Not kept
+                # (loops contact 0.038 -> 0.030, shown 0.041); on the disc 2 (2) / 5 (4) / 4 (4);
+                # after 0.35 s in contact, over three runs (relative_motion x 1, 1 +- 0.001) 4 / 12
+                # / 9 against 5 / 10 / 12 (the engine's alone, summed). Not kept
                 if self._charge_end >= 0:
                     # in a charge only the main's step along the bearing is gone along with
                     # (the demonstrated share was a pushed main's): a live main walking past
