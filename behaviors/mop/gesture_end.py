@@ -146,6 +146,18 @@ radius in some column than at the sample before) instead of moving at all:
 ``bench/follow_quality.py --sections=sized,sequences`` held-out twenty longest wrong run 4
 unchanged (median 2 -> 1.5), valid after 30% at 0.7-1.4x 0.9124 / 0.9022 -> 0.9110 / 0.9015,
 at 0.6 / 1.5x 0.7540 / 0.7001 -> 0.7533 / 0.6978.
+The input beyond where the template's end still goes (the follower alone; measured, not kept):
+past 0.9 of its progress an action stops driving once the input lay N samples in a row farther
+than 3 still radii (RMS per column) from every state between its followed state and its last
+(at its size, from the anchor). Those four runs traced per sample first: on 101, 106 and 109 the
+next gesture's first samples lie 0.4-2.6 still radii from that remaining path (its eased start,
+within the jitter's own steps of 1-3); on 107 the input lay 3.5-6.6 radii off it from the
+backflip ankle's own 0.95 on (its performer's end that far off the template's at the estimated
+size). ``bench/follow_seeds.py --sections=sequences``: N 2 (101, 107) and N 3 (101, 106, 107,
+109): 107's run 3 -> 2, the others unchanged;
+``--sections=sized --seeds=105`` valid after 30% at 0.7-1.4x 0.8937 -> 0.8873 (N 2; 19
+performances at 0.6-1.5x lost ticks: true ends lie off their template's end at the estimated
+size) and 0.8929 (N 3).
 """
 
 from __future__ import annotations

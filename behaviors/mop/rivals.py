@@ -144,6 +144,28 @@ line waits for the square up to 0.42 of it (0.35). Z 2 only for a rival broader 
 -> 0.8831. Z 3 only for a rival fitting the part seen at least as well in shape: runs 103 7 -> 2,
 110 and 112 4 -> 2 (102's 5 stays), but within 20% 104 0.313 -> 0.281 and valid after 30% on 105
 0.8937 -> 0.8814: the getup wrist fits a true dance ankle's start better in shape too.
+Measured and not kept: the take decided on the fit in each template's own spread. The evidence is
+each template's standardized log-likelihood (the forward's ``step_ll``) less its spread's log volume
+at its size; summed since the gesture began, that fit leads the narrower action only where it fits
+better than its narrowness explains. At the wrong takes above it did not separate them from right
+ones: the spin wrist fitted the circle's start -0.6 to -3.4 nats worse than the circle, the punch
+ankle the getup wrist's +2.9 to +5.9 better (both rivals within their own spread: mean chi-square
+0.36-0.69 per feature, its expected value 1), but true spins fitted as close to the circle at
+their takes (-0.7 to +1.0). Rule (the follower alone): an action not yet driving is held while a
+template broader by :data:`BROADER` nats a sample (its mean since the gesture began), open, not
+going back and within chi-square 1 per feature fits at least as well in its own spread.
+``bench/follow_seeds.py --sections=sequences`` (seeds 102, 108, 110, 111, 112): twenty templates'
+longest wrong run 5/6/4/5/4 -> 2/6/2/2/2 (108: the punch ankle, fitting better), within 20% and
+six gestures unchanged; but ``--sections=sized,unrelated`` (101-106) valid after 30% at 0.7-1.4x
+lower on every seed, 0.9076/0.8938/0.9162/0.9028/0.8937/0.8910 -> 0.9062/0.8924/0.9150/0.9006/
+0.8904/0.8893 (105: a dance ankle at 0.7x 1.0 -> 0.78, held by broader templates fitting it
+better in their spread while it fitted its own at chi-square 1.1-1.6; spins at 0.85-1.4x held
+1-4 samples by the circle; a jump ankle at 1.4-1.5x by the backflip ankle). The action within
+its own spread too: 105 0.8937 -> 0.8928; and held only while the rival fits better by 1 nat
+(``--sections=sized,unrelated,sequences``, 101-112): runs 110 and 112 4 -> 2, every other figure
+unchanged but valid after 30% lower on 11 of 12 seeds (mean 0.9008 -> 0.9003, 0.8960 -> 0.8952;
+105: the spin at 1.2x, its rival fitting better by 2.1-3.1 nats, the jump ankle at 1.4x by
+5.3-7.2, both held at a 2-nat margin too).
 """
 
 from __future__ import annotations
