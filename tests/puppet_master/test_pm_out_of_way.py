@@ -1,11 +1,11 @@
 """A character steps out of the way a main faster than it was ever shown to move is about to
-take (table_boundary.out_of_way, in the Python step and the compiled one alike): it keeps its
+take (apart.out_of_way, in the Python step and the compiled one alike): it keeps its
 disc round the main without stepping further than its largest demonstrated step."""
 
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import generation_kernel, table_boundary
+from behaviors.puppet_master import apart, generation_kernel
 from tests.puppet_master.test_pm_never_jumps import fast_main_run
 
 
@@ -21,14 +21,14 @@ def test_the_way_ahead_of_a_fast_main_pushes_across_its_line():
              ((0.5, 0.55), (0.5, 0.55)),     # out of the way
              ((0.22, 0.42), (0.22, 0.42))]   # behind the main: its own disc (keep_apart)
     for (x, y), want in cases:
-        got = table_boundary.out_of_way(x, y, 0.3, 0.4, 0.03, 0.0, 0.1, 0.02, table)
+        got = apart.out_of_way(x, y, 0.3, 0.4, 0.03, 0.0, 0.1, 0.02, table)
         assert got == generation_kernel.out_of_way(x, y, 0.3, 0.4, 0.03, 0.0, 0.1, 0.02, c)
         assert np.allclose(got, want, atol=1e-12), ((x, y), got)
     # beside a main along the top edge: across only as far as the edge lets it
-    got = table_boundary.out_of_way(0.42, 0.79, 0.3, 0.75, 0.03, 0.0, 0.1, 0.02, table)
+    got = apart.out_of_way(0.42, 0.79, 0.3, 0.75, 0.03, 0.0, 0.1, 0.02, table)
     assert np.allclose(got, (0.42, 0.8), atol=1e-12), got
     # a main no faster than the character's largest step: nothing (its disc is enough)
-    assert table_boundary.out_of_way(0.4, 0.45, 0.3, 0.4, 0.02, 0.0, 0.1, 0.02,
+    assert apart.out_of_way(0.4, 0.45, 0.3, 0.4, 0.02, 0.0, 0.1, 0.02,
                                      table) == (0.4, 0.45)
 
 
