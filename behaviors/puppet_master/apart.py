@@ -55,7 +55,8 @@ def keep_apart(x: float, y: float, others: list[tuple[float, float, float]],
     bench/fidelity.py --seeds 0-5 the same to the last digit) held the afraid character herded
     by a hand that stays on it along the edge (tests/puppet_master/test_pm_personal_space.py,
     contact / at an edge from (0.9, 0.5) 0.001 / 0.63 -> 0.000 / 0.78; at a depth of 0.25 0.023
-    / 0.76): not used."""
+    / 0.76): not used; the main's own disc slides a position only where the main steps into
+    the edge (:func:`pressed_along_edge`)."""
     for visit in range(APART_PASSES):
         moved = False
         for ox, oy, least in others:
@@ -170,11 +171,12 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     ends out of the disc: share inside 0.0201 -> 0.0226 (the afraid one 0.0175 -> 0.0236, least over
     the disc 0.643 -> 0.534); the cut step kept apart and cut again where it so ends: 0.0201 ->
     0.0200, but the bully's, stalker's and afraid one's shares higher (0.0040 / 0.0034 / 0.0175 ->
-    0.0043 / 0.0038 / 0.0183): not used."""
+    0.0043 / 0.0038 / 0.0183): not used. A main no faster than the character's largest step
+    that presses it into an edge: :func:`pressed_along_edge`."""
     v2 = vx * vx + vy * vy
     ahead = LEAD * least / largest
     if v2 <= largest * largest or ahead <= 0.0:
-        return x, y
+        return pressed_along_edge(x, y, mx, my, vx, vy, least, table)
     ex, ey = vx * ahead, vy * ahead
     u = ((x - mx) * ex + (y - my) * ey) / (v2 * ahead * ahead)
     if u <= 0.0:
@@ -189,3 +191,62 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
         dx, dy, d = -vy, vx, math.sqrt(v2)
     push = max(d, min(least, table_reach(cx, cy, dx / d, dy / d, table)))
     return clamp_to_table(cx + dx * push / d, cy + dy * push / d, table)
+
+
+
+def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: float,
+                       least: float, table: tuple[float, float, float, float]
+                       ) -> tuple[float, float]:
+    """(x, y) inside the disc of ``least`` metres round a main at (mx, my) that closes in on
+    it and steps (vx, vy) metres per step into the table's edge that holds it there (the line
+    from the main's centre runs into that edge more than SLIDE_DEPTH x ``least`` inside the
+    disc), moved along that edge out of the disc (:func:`along_edge`, away from the main);
+    else (x, y). A puck pressed against a wall slides along it; a main that stands, moves
+    away or runs along the edge without pressing into it leaves the push as keep_apart makes it.
+
+    :func:`out_of_way`'s unseen scenes (36 per character), share of steps inside the main's
+    disc / least distance over it, mean over scenes (least of any): seeds 12-47 0.0201 / 0.640
+    (0.024) -> 0.0183 / 0.671 (0.024), lover 0.0548 -> 0.0532, bully 0.0040 -> 0.0020, stalker
+    0.0034 -> 0.0034, afraid 0.0175 -> 0.0158, playful friend 0.0209 -> 0.0169, every
+    character's least of any scene the same or farther; seeds 48-83 0.0191 / 0.607 (0.059) ->
+    0.0176 / 0.639 (0.062), lover 0.0435 -> 0.0426, bully 0.0046 -> 0.0032, afraid 0.0190 ->
+    0.0174, playful friend 0.0245 -> 0.0208, but the stalker 0.0039 -> 0.0042 (one scene: the
+    main walking along the top edge pressed into it slid it ahead into a corner). No step over
+    the largest. tests/puppet_master/test_pm_personal_space.py's herded afraid character
+    (contact / at an edge) from (0.3, 0.3) 0.0725 / 0.80 -> 0.010 / 0.36, from (0.9, 0.5)
+    0.0013 / 0.63 unchanged; that herder from 14 starts at 0.25 / 0.35 / 0.45 m/s: contact
+    0.0235 -> 0.0118, inside the disc 0.050 -> 0.029, at an edge 0.703 -> 0.706.
+    Gated only on the main closing in (as keep_apart's slide on its first pass): 0.0178 on
+    seeds 12-47, the 42 herds' contact 0.0054, at an edge 0.702, but from (0.9, 0.5) at an edge
+    0.63 -> 0.78 (the herds' edge share per start spreads 0.36-1.0 either way); closing in at
+    0.2 / 0.25 / 0.3 / 0.35 x the character's largest step instead: 0.0181 / 0.0191 / 0.0188 /
+    0.0189, the afraid one's 0.0177 / 0.0191 / 0.0192 / 0.0182; into the edge at 0.1 x the
+    largest step: 0.0191 (the lover's least on seeds 48-83 0.079 -> 0.020), at a quarter of
+    the main's step: 0.0185, the lover's 0.0435 -> 0.0443 on seeds 48-83; more into the edge
+    than along the slide: 0.0185 / 0.0188; only where the main does not step the slide's way:
+    0.0180 / 0.0190; not into a corner ahead of the main: lover 0.0552, stalker 0.0045 on seeds
+    48-83. Slid ahead of the main's own way along the edge / behind it: 0.0184 / 0.0166, but
+    the herded one in contact 0.44 of the time from (0.9, 0.5) behind it (the capped step
+    crosses the main's disc); to the disc's edge beside the main's way: contact 0.14 (42
+    herds). Not used."""
+    dx, dy = x - mx, y - my
+    d = math.hypot(dx, dy)
+    if d >= least or d < 1e-9 or dx * vx + dy * vy < 0.0:
+        return x, y
+    push = max(d, min(least, table_reach(mx, my, dx / d, dy / d, table)))
+    if push >= (1.0 - SLIDE_DEPTH) * least:
+        return x, y
+    px, py = clamp_to_table(mx + dx * push / d, my + dy * push / d, table)
+    x0, y0, x1, y1 = table
+    into = 0.0                           # the main's step into the edge that holds (px, py)
+    if px <= x0 + EDGE_EPS:
+        into = -vx
+    elif px >= x1 - EDGE_EPS:
+        into = vx
+    if py <= y0 + EDGE_EPS:
+        into = max(into, -vy)
+    elif py >= y1 - EDGE_EPS:
+        into = max(into, vy)
+    if into <= 0.0:
+        return x, y
+    return along_edge(px, py, mx, my, least, table)

@@ -296,6 +296,32 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
     return clamp_to_table(x, y, c)
 
 
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
+def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: float,
+                       least: float, c: np.ndarray) -> tuple[float, float]:
+    """apart.pressed_along_edge (table from the constants)."""
+    dx, dy = x - mx, y - my
+    d = hypot(dx, dy)
+    if d >= least or d < 1e-9 or dx * vx + dy * vy < 0.0:
+        return x, y
+    push = _max(d, _min(least, table_reach(mx, my, dx / d, dy / d, c)))
+    if push >= (1.0 - SLIDE_DEPTH) * least:
+        return x, y
+    px, py = clamp_to_table(mx + dx * push / d, my + dy * push / d, c)
+    into = 0.0
+    if px <= c[X0] + EDGE_EPS:
+        into = -vx
+    elif px >= c[X1] - EDGE_EPS:
+        into = vx
+    if py <= c[Y0] + EDGE_EPS:
+        into = _max(into, -vy)
+    elif py >= c[Y1] - EDGE_EPS:
+        into = _max(into, vy)
+    if into <= 0.0:
+        return x, y
+    return along_edge(px, py, mx, my, least, c)
+
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
 def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, least: float,
                largest: float, c: np.ndarray) -> tuple[float, float]:
@@ -303,7 +329,7 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     v2 = vx * vx + vy * vy
     ahead = LEAD * least / largest
     if v2 <= largest * largest or ahead <= 0.0:
-        return x, y
+        return pressed_along_edge(x, y, mx, my, vx, vy, least, c)
     ex, ey = vx * ahead, vy * ahead
     u = ((x - mx) * ex + (y - my) * ey) / (v2 * ahead * ahead)
     if u <= 0.0:

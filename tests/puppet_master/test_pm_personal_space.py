@@ -67,9 +67,10 @@ def test_a_cornered_afraid_character_escapes_round_the_hand():
     # (its personal space pushed it off the table along the line from the hand, and the table
     # put it back in the corner): in contact 42% and 33% of the time, at an edge 91% and 70%.
     # Pushed only as far as the table lets it (apart.keep_apart) it slips out along the
-    # edge: contact 0.0725 and 0.0013, at an edge 80% and 63% (measured). The push is what is
-    # tested, so the character without its edge margin (the shipped one, edge_percentile 50:
-    # contact 0.0 and 0.0, at an edge 19% and 16%)
+    # edge: contact 0.0725 and 0.0013, at an edge 80% and 63% (measured); slid along the edge
+    # the hand presses it into (apart.pressed_along_edge) 0.010 and 0.0013, 36% and 63%. The
+    # push is what is tested, so the character without its edge margin (the shipped one,
+    # edge_percentile 50: contact 0.0 and 0.0, at an edge 19% and 16%)
     stored = library.load_behavior(examples.DEFAULT_OUT / "afraid")
     b = Behavior.train(stored.demonstration, **{**stored.parameters, "edge_percentile": 0.0})
     for start, contact, edge in (((0.3, 0.3), 0.1, 0.9), ((0.9, 0.5), 0.1, 0.65)):
@@ -78,6 +79,18 @@ def test_a_cornered_afraid_character_escapes_round_the_hand():
                              b.params.rate_hz, b.turn_limit, TABLE)
         assert f["contact"] < contact and f["edge_share"] < edge, (start, f["contact"],
                                                                  f["edge_share"])
+
+
+def test_a_herded_afraid_character_slides_along_the_edge_it_is_pressed_into():
+    # the hand above from (0.3, 0.3) presses it into the edges: slid along the edge it is
+    # pressed into (apart.pressed_along_edge) it is in contact 1% of the time and at an edge
+    # 36% (measured; pushed only along the line from the hand 7.25% and 80%)
+    stored = library.load_behavior(examples.DEFAULT_OUT / "afraid")
+    b = Behavior.train(stored.demonstration, **{**stored.parameters, "edge_percentile": 0.0})
+    main, rows = fidelity.pursue(b, _Herder(20.0, (0.3, 0.3), 0.35), TABLE)
+    f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],
+                         b.params.rate_hz, b.turn_limit, TABLE)
+    assert f["contact"] < 0.03 and f["edge_share"] < 0.5, (f["contact"], f["edge_share"])
 
 
 def test_a_push_off_the_table_goes_as_far_as_the_edge():
