@@ -193,7 +193,6 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     return clamp_to_table(cx + dx * push / d, cy + dy * push / d, table)
 
 
-
 def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: float,
                        least: float, table: tuple[float, float, float, float]
                        ) -> tuple[float, float]:
@@ -211,11 +210,16 @@ def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: 
     character's least of any scene the same or farther; seeds 48-83 0.0191 / 0.607 (0.059) ->
     0.0176 / 0.639 (0.062), lover 0.0435 -> 0.0426, bully 0.0046 -> 0.0032, afraid 0.0190 ->
     0.0174, playful friend 0.0245 -> 0.0208, but the stalker 0.0039 -> 0.0042 (one scene: the
-    main walking along the top edge pressed into it slid it ahead into a corner). No step over
-    the largest. tests/puppet_master/test_pm_personal_space.py's herded afraid character
-    (contact / at an edge) from (0.3, 0.3) 0.0725 / 0.80 -> 0.010 / 0.36, from (0.9, 0.5)
-    0.0013 / 0.63 unchanged; that herder from 14 starts at 0.25 / 0.35 / 0.45 m/s: contact
-    0.0235 -> 0.0118, inside the disc 0.050 -> 0.029, at an edge 0.703 -> 0.706.
+    main walking along the top edge pressed into it slid it ahead into a corner); seeds 84-119
+    0.0212 -> 0.0189, lover 0.0609 -> 0.0498, bully 0.0044 -> 0.0031, playful friend 0.0180 ->
+    0.0179, but the afraid one 0.0177 -> 0.0180 and the stalker 0.0050 -> 0.0057 (one scene, a
+    main walking along the edge over it where this does not fire). No step over the largest.
+    bench/fidelity.py --seeds 0-5 and --seeds 40-51 --perturb 2: every figure the same (677 of
+    720, pursuit 47; 1329, pursuit 85). tests/puppet_master/test_pm_personal_space.py's herded
+    afraid character (contact / at an edge) from (0.3, 0.3) 0.0725 / 0.80 -> 0.010 / 0.36,
+    from (0.9, 0.5) 0.0013 / 0.63 unchanged; that herder from 14 starts at 0.25 / 0.35 / 0.45 m/s: contact
+    0.0235 -> 0.0118, inside the disc 0.050 -> 0.029, at an edge 0.703 -> 0.706; the shipped
+    lover so herded 0.0671 -> 0.0594, 0.066 -> 0.058, 0.777 -> 0.732.
     Gated only on the main closing in (as keep_apart's slide on its first pass): 0.0178 on
     seeds 12-47, the 42 herds' contact 0.0054, at an edge 0.702, but from (0.9, 0.5) at an edge
     0.63 -> 0.78 (the herds' edge share per start spreads 0.36-1.0 either way); closing in at
