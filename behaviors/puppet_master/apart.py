@@ -217,9 +217,9 @@ def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: 
     bench/fidelity.py --seeds 0-5 and --seeds 40-51 --perturb 2: every figure the same (677 of
     720, pursuit 47; 1329, pursuit 85). tests/puppet_master/test_pm_personal_space.py's herded
     afraid character (contact / at an edge) from (0.3, 0.3) 0.0725 / 0.80 -> 0.010 / 0.36,
-    from (0.9, 0.5) 0.0013 / 0.63 unchanged; that herder from 14 starts at 0.25 / 0.35 / 0.45 m/s: contact
-    0.0235 -> 0.0118, inside the disc 0.050 -> 0.029, at an edge 0.703 -> 0.706; the shipped
-    lover so herded 0.0671 -> 0.0594, 0.066 -> 0.058, 0.777 -> 0.732.
+    from (0.9, 0.5) 0.0013 / 0.63 unchanged; that herder from 14 starts at 0.25 / 0.35 / 0.45
+    m/s: contact 0.0235 -> 0.0118, inside the disc 0.050 -> 0.029, at an edge 0.703 -> 0.706;
+    the shipped lover so herded 0.0671 -> 0.0594, 0.066 -> 0.058, 0.777 -> 0.732.
     Gated only on the main closing in (as keep_apart's slide on its first pass): 0.0178 on
     seeds 12-47, the 42 herds' contact 0.0054, at an edge 0.702, but from (0.9, 0.5) at an edge
     0.63 -> 0.78 (the herds' edge share per start spreads 0.36-1.0 either way); closing in at
