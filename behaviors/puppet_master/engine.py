@@ -37,7 +37,8 @@ from behaviors.puppet_master.generation import StepSmoother, target_position
 from behaviors.puppet_master.look import HEADING_MIN_SPEED
 from behaviors.puppet_master.params import ParameterError, Params  # noqa: F401
 from behaviors.puppet_master.resample import CausalResampler
-from behaviors.puppet_master.table_boundary import clamp_to_table, keep_apart
+from behaviors.puppet_master.apart import keep_apart
+from behaviors.puppet_master.table_boundary import clamp_to_table
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
 from behaviors.puppet_master.step import GenerationStep
 from tabletop.frames import wrap_angle

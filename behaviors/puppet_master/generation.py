@@ -11,7 +11,7 @@ share 0 (the paper), heads for the target (:func:`step_around`: around the main,
 with the length of the target velocity (engine.Params.catch_up may lengthen it when far off);
 the last three steps are averaged (the paper's linear smooth), the patch's Haar detail turns the
 averaged step (detail.py), the table keeps the reactor (:func:`table_boundary.keep_on_table`)
-and so do the other characters (:func:`table_boundary.keep_apart`); the look follows look.py at
+and so do the other characters (:func:`apart.keep_apart`); the look follows look.py at
 a limited turn rate (:func:`limit_turn`).
 
 Positions in table metres, steps in metres per generation step, angles in radians.

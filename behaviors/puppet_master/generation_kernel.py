@@ -14,10 +14,10 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import step_math, table_boundary
+from behaviors.puppet_master import apart, step_math, table_boundary
+from behaviors.puppet_master.apart import APART_PASSES, EDGE_EPS, LEAD, SLIDE_DEPTH
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
-from behaviors.puppet_master.table_boundary import (APART_PASSES, EDGE_EPS, EDGE_TURN, LEAD,
-                                                     SLIDE_DEPTH)
+from behaviors.puppet_master.table_boundary import EDGE_TURN
 from behaviors.kernel_cache import compiled
 
 # the table among the step's constants (Reactor._cs)
@@ -233,7 +233,7 @@ def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> floa
 
 @compiled(_f8(_f8, _f8, _f8, _f8, _f8, _f8), step_math)
 def _along(off: float, centre: float, at: float, lo: float, hi: float, least: float) -> float:
-    """table_boundary._along."""
+    """apart._along."""
     h = least * least - off * off
     if h > 0.0:
         n = centre + math.copysign(math.sqrt(h), at - centre)
@@ -242,10 +242,10 @@ def _along(off: float, centre: float, at: float, lo: float, hi: float, least: fl
     return math.nan
 
 
-@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F1), step_math, table_boundary)
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
 def along_edge(x: float, y: float, ox: float, oy: float, least: float,
                c: np.ndarray) -> tuple[float, float]:
-    """table_boundary.along_edge (table from the constants)."""
+    """apart.along_edge (table from the constants)."""
     if x <= c[X0] + EDGE_EPS or x >= c[X1] - EDGE_EPS:
         ny = _along(x - ox, oy, y, c[Y0], c[Y1], least)
         if ny == ny:
@@ -259,7 +259,7 @@ def along_edge(x: float, y: float, ox: float, oy: float, least: float,
 
 @compiled(_P2(_f8, _f8, _f8, _F1), step_math)
 def _free_axis(x: float, y: float, least: float, c: np.ndarray) -> tuple[float, float]:
-    """table_boundary._free_axis (table from the constants)."""
+    """apart._free_axis (table from the constants)."""
     bx, by, most = 1.0, 0.0, -math.inf
     for k in range(4):
         ux = 1.0 if k == 0 else (-1.0 if k == 1 else 0.0)
@@ -272,9 +272,9 @@ def _free_axis(x: float, y: float, least: float, c: np.ndarray) -> tuple[float, 
     return bx, by
 
 
-@compiled(_P2(_f8, _f8, _F2, _F1), step_math, table_boundary)
+@compiled(_P2(_f8, _f8, _F2, _F1), step_math, apart)
 def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
-    """table_boundary.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
+    """apart.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
     for visit in range(APART_PASSES):
         moved = False
         for k in range(others.shape[0]):
@@ -296,14 +296,40 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
     return clamp_to_table(x, y, c)
 
 
-@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, table_boundary)
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
+def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: float,
+                       least: float, c: np.ndarray) -> tuple[float, float]:
+    """apart.pressed_along_edge (table from the constants)."""
+    dx, dy = x - mx, y - my
+    d = hypot(dx, dy)
+    if d >= least or d < 1e-9 or dx * vx + dy * vy < 0.0:
+        return x, y
+    push = _max(d, _min(least, table_reach(mx, my, dx / d, dy / d, c)))
+    if push >= (1.0 - SLIDE_DEPTH) * least:
+        return x, y
+    px, py = clamp_to_table(mx + dx * push / d, my + dy * push / d, c)
+    into = 0.0
+    if px <= c[X0] + EDGE_EPS:
+        into = -vx
+    elif px >= c[X1] - EDGE_EPS:
+        into = vx
+    if py <= c[Y0] + EDGE_EPS:
+        into = _max(into, -vy)
+    elif py >= c[Y1] - EDGE_EPS:
+        into = _max(into, vy)
+    if into <= 0.0:
+        return x, y
+    return along_edge(px, py, mx, my, least, c)
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
 def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, least: float,
                largest: float, c: np.ndarray) -> tuple[float, float]:
-    """table_boundary.out_of_way (table from the constants)."""
+    """apart.out_of_way (table from the constants)."""
     v2 = vx * vx + vy * vy
     ahead = LEAD * least / largest
     if v2 <= largest * largest or ahead <= 0.0:
-        return x, y
+        return pressed_along_edge(x, y, mx, my, vx, vy, least, c)
     ex, ey = vx * ahead, vy * ahead
     u = ((x - mx) * ex + (y - my) * ey) / (v2 * ahead * ahead)
     if u <= 0.0:
@@ -320,7 +346,7 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
     return clamp_to_table(cx + dx * push / d, cy + dy * push / d, c)
 
 
-@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math, table_boundary)
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math, apart)
 def moved_on(x: float, y: float, sx: float, sy: float, f: float, others: np.ndarray,
              c: np.ndarray) -> tuple[float, float]:
     """engine.Reactor.update's position between two steps: (x, y) moved on by the share ``f``

@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.generation import capped, kept_straightness, rotate_step, turn_between
+from behaviors.puppet_master.apart import keep_apart, out_of_way
 from behaviors.puppet_master.step_senses import StepSenses
-from behaviors.puppet_master.table_boundary import (keep_apart, keep_on_table, out_of_way,
-                                                     turn_off_edges)
+from behaviors.puppet_master.table_boundary import keep_on_table, turn_off_edges
 
 
 class StepDetail(StepSenses):
@@ -249,7 +249,7 @@ class StepDetail(StepSenses):
             others = [*others, (mx, my, b.main_disc)]
         if others:
             nx, ny = rx + sx, ry + sy
-            if b.main_disc > 0.0:        # the main's way ahead (table_boundary.out_of_way)
+            if b.main_disc > 0.0:        # the main's way ahead (apart.out_of_way)
                 nx, ny = out_of_way(nx, ny, mx, my, mx - self.main_motion.x,
                                     my - self.main_motion.y, b.main_disc, b.largest_step,
                                     self.table)
@@ -277,7 +277,7 @@ class StepDetail(StepSenses):
             # perturbed runs 1328 / 1339 / 1334 -> 1328 / 1339 / 1335). What it costs: a main
             # faster than the character was ever shown to move comes nearer than its disc
             # (the afraid one's least distance on that fast path 0.104 -> 0.053 m; 0.078 m with
-            # the main's way ahead read, table_boundary.out_of_way). Given way sideways instead
+            # the main's way ahead read, apart.out_of_way). Given way sideways instead
             # (that step across the main's own step, away from its line;
             # Python step): least distances mixed on those paths, the afraid one 0.053 -> 0.068
             # m and the stalker 0.035 -> 0.042 beside the fast main, but the stalker 0.051 ->

@@ -14,7 +14,7 @@ any of these must be made here too:
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, less_approach, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
   StepSmoother.turn, push and lose_inward
-- table_boundary.turn_off_edges and out_of_way (EDGE_TURN, LEAD frozen into the compiled step)
+- table_boundary.turn_off_edges, apart.out_of_way (EDGE_TURN, LEAD frozen into the compiled step)
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -37,7 +37,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import generation_kernel, step_math, table_boundary
+from behaviors.puppet_master import apart, generation_kernel, step_math, table_boundary
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
     keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, out_of_way,
@@ -181,7 +181,7 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
 
 @compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
                       _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
-          step_math, generation_kernel, table_boundary)
+          step_math, generation_kernel, table_boundary, apart)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
