@@ -53,9 +53,10 @@ def _larger(typingctx, a, b):
     second, scalar pass over both twins' log-densities in eight interleaved parts (the
     compiler's ``max`` vectorised in no form: in the distance pass as eight locals, as
     ``llvm.maxnum`` without the flags, as a chain with ``nnan``/``nsz`` fast-math in a function
-    of its own). 8 members on DESIGN's real state, 40 successive ticks, interleaved in one
-    process: 156, 168 -> 141, 129 us median hot, 180, 176 -> 173, 162 cold; the same numbers
-    to the bit."""
+    of its own). 8 members stepped over 40 successive ticks of DESIGN's real state, interleaved
+    in one process, three runs at load 12-15: 156, 183, 197 -> 141, 164, 172 us median hot, 180,
+    212, 303 -> 173, 194, 280 with the caches cold; the same numbers to the bit (every output of
+    the step, and every state of the group's followers over 1600 ticks)."""
     def codegen(context, builder, signature, args):
         fn = cgutils.get_or_insert_function(
             builder.module, ir.FunctionType(args[0].type, [args[0].type] * 2), "llvm.maxnum.f32")
@@ -210,6 +211,9 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         hi = lo + ti[k, 1]
         ak, vk = a[lo:hi], v[lo:hi]
         if tops_k[k] < cut:   # the whole template under e^-40 of the likeliest state
+            # (zeroed only where it held weight, its sum kept per template: 8 members on
+            # DESIGN's real state, caches cold, 201.7 -> 200.0 and 186.5 -> 184.1 us median,
+            # the same numbers: not taken)
             ak[:] = _ZERO32
         else:
             for j in range(hi - lo):   # no weight under e^-40 (threshold_model_step)
@@ -237,7 +241,11 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         # DESIGN's tick, thread time after the view's frames, alternating processes at load
         # 19: median 1385, 1294 -> 1277, 1196 us, update_templates 737, 712 -> 649, 622 us;
         # bench/mop.py --design's CPU median 1.415 -> 1.249 ms, p99 2.30 -> 1.99 ms, medians of
-        # five alternating runs at load 13-22; the same numbers to the bit)
+        # five alternating runs at load 13-22; the same numbers to the bit). Only over the
+        # chain's support (about 10 of its 100 states) and three states past it, in whole
+        # vectors of eight (the rest stays zero): the same numbers, but 8 members on DESIGN's
+        # real state 164 -> 164 us median hot, 194 -> 192 cold (a chain's own set-up, its first
+        # state and its sum remain): not taken
         length = hi - lo
         for p in range(length):
             vk[p] = _W0 * mk[p]
