@@ -9,6 +9,9 @@ import math
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 import behaviors.mop.compiled
 from behaviors.mop import threshold
@@ -37,33 +40,28 @@ _W0, _W1, _W2, _W3 = (_F32(w) for w in MIRROR_MOVES)
 _U = numba.uintp   # an index known to be >= 0: no wrap-around of negative indices
 
 
-@compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
-def _largest(v: np.ndarray, lo: int, hi: int) -> float:
-    """The largest of ``v[lo:hi]``, in eight interleaved parts (exact in any order) kept in
-    eight locals, which stay in registers; kept in an array of eight (a call per template)
-    they went through memory value by value, and so did the sum's parts in
-    :func:`threshold_step` (now :func:`_summed`): with both in locals, update_templates 0.545
-    -> 0.428 and 0.596 -> 0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms
-    (median thread time, interleaved in one process, load 19; the same numbers to the bit).
-    Taken in the distance pass instead (a template of 100 states, both twins, hot): in the
-    same eight locals 955 -> 934-1000 ns a call (the compiler kept the maxima scalar and the
-    pass with them), as one ``llvm.maxnum`` chain 815 -> 975 ns, or here as one chain with
-    ``nnan``/``nsz`` 74 -> 242 ns a template (none became vector maxima): not taken."""
-    t0 = t1 = t2 = t3 = t4 = t5 = t6 = t7 = _NEG_INF32
-    end = hi - (hi - lo) % 8
-    for j in range(lo, end, 8):
-        u = _U(j)
-        t0 = max(t0, v[u])
-        t1 = max(t1, v[u + _U(1)])
-        t2 = max(t2, v[u + _U(2)])
-        t3 = max(t3, v[u + _U(3)])
-        t4 = max(t4, v[u + _U(4)])
-        t5 = max(t5, v[u + _U(5)])
-        t6 = max(t6, v[u + _U(6)])
-        t7 = max(t7, v[u + _U(7)])
-    for j in range(end, hi):
-        t0 = max(t0, v[j])
-    return max(max(max(t0, t1), max(t2, t3)), max(max(t4, t5), max(t6, t7)))
+@intrinsic
+def _larger(typingctx, a, b):
+    """The larger of the float32 ``a`` and ``b`` (``llvm.maxnum``), flagged free of NaNs and of
+    signed zeros' order, so that a running maximum over a loop becomes vector maxima (the
+    compiler's ``max`` is a compare and a select, which it keeps scalar). The threshold model's
+    log-densities are finite or infinite, never NaN (the samples are checked finite), and the
+    sign of a zero maximum changes nothing it is used for.
+
+    Taken in the distance pass of :func:`threshold_step` (each template's likeliest state of
+    both twins): the pass and its maxima vectorised in one loop, where the maxima had been a
+    second, scalar pass over both twins' log-densities in eight interleaved parts (the
+    compiler's ``max`` vectorised in no form: in the distance pass as eight locals, as
+    ``llvm.maxnum`` without the flags, as a chain with ``nnan``/``nsz`` fast-math in a function
+    of its own). 8 members stepped over 40 successive ticks of DESIGN's real state, interleaved
+    in one process, three runs at load 12-15: 156, 183, 197 -> 141, 164, 172 us median hot, 180,
+    212, 303 -> 173, 194, 280 with the caches cold; the same numbers to the bit (every output of
+    the step, and every state of the group's followers over 1600 ticks)."""
+    def codegen(context, builder, signature, args):
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(args[0].type, [args[0].type] * 2), "llvm.maxnum.f32")
+        return builder.call(fn, args, fastmath=("nnan", "nsz"))
+    return a(a, b), codegen
 
 
 @compiled(numba.float64(_S1), *_CALLS_INTO, fastmath=CONTRACT | {"reassoc"})
@@ -72,8 +70,8 @@ def _summed(v: np.ndarray) -> float:
     vectorises; the same to about 1e-16). Called for each template of :func:`threshold_step`
     with any weight, the others' being zeros: 8 members on DESIGN's real state, interleaved in
     one process, 119 -> 103 us median hot (another run: 129 -> 121 hot, 149 -> 144 cold)
-    against one pass over every state in eight interleaved parts (as :func:`_largest`; half
-    of it zeros); a reassociating maximum in :func:`_largest`'s place was slower (103 -> 138
+    against one pass over every state in eight interleaved parts (half of it zeros); a
+    reassociating maximum in place of the eight-part maxima then taken was slower (103 -> 138
     us)."""
     total = 0.0
     for j in range(v.size):
@@ -154,6 +152,7 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         lj = _F32(ljs[k])
         z0, zm = _F32(zs[k, 0]), _F32(zs[k, d])
         m0 = means[0, first:first + length]
+        tk = tm = _NEG_INF32   # its likeliest state's log-density, and its mirror chain's
         if d == 2:   # a puck's case, in one pass (the same operations)
             z1 = _F32(zs[k, 1])
             m1 = means[1, first:first + length]
@@ -162,8 +161,12 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
                 s1 = e1 * e1
                 e0 = z0 - m0[j]
                 f0 = zm - m0[j]
-                out[j] = (e0 * e0 + s1) * factor + lj
-                mout[j] = (f0 * f0 + s1) * factor + lj
+                o = (e0 * e0 + s1) * factor + lj
+                mo = (f0 * f0 + s1) * factor + lj
+                out[j] = o
+                mout[j] = mo
+                tk = _larger(tk, o)
+                tm = _larger(tm, mo)
         else:
             out[:] = _ZERO32
             for c in range(1, d):   # column by column (``means`` is (D, S)): the loops vectorise
@@ -174,10 +177,12 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
             for j in range(length):
                 e0 = z0 - m0[j]
                 f0 = zm - m0[j]
-                mout[j] = (f0 * f0 + out[j]) * factor + lj
-                out[j] = (e0 * e0 + out[j]) * factor + lj
-        tk = _largest(ll, first - base, first - base + length)
-        tm = _largest(ll, half + first - base, half + first - base + length)
+                mo = (f0 * f0 + out[j]) * factor + lj
+                o = (e0 * e0 + out[j]) * factor + lj
+                mout[j] = mo
+                out[j] = o
+                tk = _larger(tk, o)
+                tm = _larger(tm, mo)
         tops_k[k] = tk
         tops_k[kk + k] = tm
         top = max(top, max(tk, tm))
@@ -206,6 +211,9 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         hi = lo + ti[k, 1]
         ak, vk = a[lo:hi], v[lo:hi]
         if tops_k[k] < cut:   # the whole template under e^-40 of the likeliest state
+            # (zeroed only where it held weight, its sum kept per template: 8 members on
+            # DESIGN's real state, caches cold, 201.7 -> 200.0 and 186.5 -> 184.1 us median,
+            # the same numbers: not taken)
             ak[:] = _ZERO32
         else:
             for j in range(hi - lo):   # no weight under e^-40 (threshold_model_step)
@@ -233,7 +241,11 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         # DESIGN's tick, thread time after the view's frames, alternating processes at load
         # 19: median 1385, 1294 -> 1277, 1196 us, update_templates 737, 712 -> 649, 622 us;
         # bench/mop.py --design's CPU median 1.415 -> 1.249 ms, p99 2.30 -> 1.99 ms, medians of
-        # five alternating runs at load 13-22; the same numbers to the bit)
+        # five alternating runs at load 13-22; the same numbers to the bit). Only over the
+        # chain's support (about 10 of its 100 states) and three states past it, in whole
+        # vectors of eight (the rest stays zero): the same numbers, but 8 members on DESIGN's
+        # real state 164 -> 164 us median hot, 194 -> 192 cold (a chain's own set-up, its first
+        # state and its sum remain): not taken
         length = hi - lo
         for p in range(length):
             vk[p] = _W0 * mk[p]
