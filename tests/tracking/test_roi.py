@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from tracking.markers import DetectorSettings, detect_markers, make_detector, marker_centres
-from tracking.roi import (HALVED_FULL_MIN_SIDE_PX, MarkerTracker, boxes_around, merge_boxes,
-                          pack_boxes)
+from tracking.crops import boxes_around, merge_boxes, pack_boxes
+from tracking.roi import HALVED_FULL_MIN_SIDE_PX, MarkerTracker
 from tracking.scenes import grid_poses, moving_scene
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
 
