@@ -98,14 +98,15 @@ class BehaviorShelf:
             elif folder.parent == self.lib and not folder.exists():
                 self._gone(folder)
                 return
-            if str(done) not in self._problems:
-                self._problems.append(str(done))
+            self._problems = [p for p in self._problems
+                              if not _about(p, folder) and p != str(done)] + [str(done)]
             e = self.engine
             self.news.append(
                 f"{folder.name} not reloaded: {done}; the version read before plays on" if reload
                 else f"{folder.name} not played: {done}; still playing "
                      f"{e.behavior_name if e.behavior is not None else 'nothing'}")
         elif done is not None:
+            self._problems = [p for p in self._problems if not _about(p, folder)]
             behavior, reactor, source = done
             if self.pending is not None:
                 self.previous = (behavior, source["name"])
@@ -164,7 +165,10 @@ class BehaviorShelf:
                 and self.play_poller is not None and self.play_poller.changed()):
             try:
                 self._load(self.playing)
-                problems = [p for p in problems if not _about(p, self.playing)]
+                if self.loader is None:   # read now; in a worker, its problems stand until
+                    # it has read (flush): dropped here, one still bad was said again after
+                    # "no longer said (fixed or removed)"
+                    problems = [p for p in problems if not _about(p, self.playing)]
             except InputError as exc:
                 if self.playing.parent == self.lib and not self.playing.exists():
                     self._gone(self.playing)
