@@ -107,6 +107,8 @@ class BehaviorShelf:
                      f"{e.behavior_name if e.behavior is not None else 'nothing'}")
         elif done is not None:
             self._problems = [p for p in self._problems if not _about(p, folder)]
+            if reload:   # said as its refusal is (a designer's edit took: outside the studio
+                self.news.append(f"{folder.name} reloaded: its files changed")   # logged too)
             behavior, reactor, source = done
             if self.pending is not None:
                 self.previous = (behavior, source["name"])

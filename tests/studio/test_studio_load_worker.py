@@ -428,3 +428,23 @@ def test_a_folder_edited_from_one_bad_value_to_another_is_said_once(tmp_path, tr
     assert len(said) == 3, said
     assert "-1" in said[0] and "abc" in said[1] and "abc" not in said[2], said
     assert said[2].startswith("library: no longer said (fixed or removed): ") and "-1" in said[2]
+
+
+def test_a_reload_that_took_is_said_as_one_refused_is(tmp_path, trainings, caplog):
+    """A parameter edited in behavior.yaml of the behaviour in play: the studio said a reload
+    it refused ("bully not reloaded: ...") but nothing of one that took, which outside the
+    studio is logged ("behaviour ... reloaded")."""
+    calls, release = trainings
+    release.set()
+    e, bench, target, lib, pucks = _studio(tmp_path)
+    bully, y = e.behavior, lib / "bully" / "behavior.yaml"
+    y.write_text(y.read_text().replace("  rate_hz:", "  ratio: 2.0\n  rate_hz:"))
+    with caplog.at_level("INFO", logger="tabletop"):
+        bench.studio.poll()
+        target.loader.wait()
+        bench.step(Frame(seq=2, t=1.5, pucks=pucks))
+        bench.studio.poll()
+        _, studio = bench.step(Frame(seq=3, t=1.6, pucks=pucks))
+    assert e.behavior is not bully and e.behavior.params.ratio == 2.0
+    assert "bully reloaded: its files changed" in studio.label, studio.label
+    assert "studio: bully reloaded" in caplog.text
