@@ -30,4 +30,5 @@ def test_verbose_adds_the_projects_debug_lines_not_the_libraries():
                            "tabletop: DEBUG: the project's debug",
                            "tabletop: DEBUG: a project module's debug",
                            "tabletop: INFO: the project's info"]
-    assert _said(False) == ["tabletop: INFO: a library's info", "tabletop: INFO: the project's info"]
+    assert _said(False) == ["tabletop: INFO: a library's info",
+                            "tabletop: INFO: the project's info"]
