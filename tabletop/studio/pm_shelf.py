@@ -30,6 +30,7 @@ class BehaviorShelf:
     """Picking, renaming, deleting and reloading the library's behaviours (a mixin)."""
 
     started_problems: tuple[str, ...] = ()   # the studio logs the library's bad files itself
+    _edited: Path | None = None   # the folder in play reloaded because its files changed
 
     def items(self) -> list[str]:
         return library.list_behaviors(self.lib)
@@ -107,8 +108,9 @@ class BehaviorShelf:
                      f"{e.behavior_name if e.behavior is not None else 'nothing'}")
         elif done is not None:
             self._problems = [p for p in self._problems if not _about(p, folder)]
-            if reload:   # said as its refusal is (a designer's edit took: outside the studio
-                self.news.append(f"{folder.name} reloaded: its files changed")   # logged too)
+            if reload and self._edited == folder:   # said as its refusal is (an edit took:
+                self.news.append(f"{folder.name} reloaded: its files changed")   # outside the
+            self._edited = None                        # studio logged too; not a ] re-pick)
             behavior, reactor, source = done
             if self.pending is not None:
                 self.previous = (behavior, source["name"])
@@ -166,6 +168,7 @@ class BehaviorShelf:
         if (self.pending is None and self._training is None and self.playing is not None
                 and self.play_poller is not None and self.play_poller.changed()):
             try:
+                self._edited = self.playing
                 self._load(self.playing)
                 if self.loader is None:   # read now; in a worker, its problems stand until
                     # it has read (flush): dropped here, one still bad was said again after

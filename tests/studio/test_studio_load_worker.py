@@ -448,3 +448,11 @@ def test_a_reload_that_took_is_said_as_one_refused_is(tmp_path, trainings, caplo
     assert e.behavior is not bully and e.behavior.params.ratio == 2.0
     assert "bully reloaded: its files changed" in studio.label, studio.label
     assert "studio: bully reloaded" in caplog.text
+    # the item in play picked again (] on a library of one) is no edit: not said so
+    caplog.clear()
+    with caplog.at_level("INFO", logger="tabletop"):
+        target.use("bully")
+        target.loader.wait()
+        bench.step(Frame(seq=4, t=2.0, pucks=pucks))
+        bench.studio.poll()
+    assert "reloaded" not in caplog.text, caplog.text
