@@ -49,8 +49,12 @@ class Installation:
 
 
 def configure_logging(verbose: bool = False) -> None:
-    logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO,
-                        format="tabletop: %(levelname)s: %(message)s")
+    """INFO and above; ``verbose``: the project's own debug messages too (its loggers are
+    "tabletop" and below; the libraries' stay at INFO: matplotlib's font search alone put
+    146 "tabletop: DEBUG: findfont: ..." lines before a studio's first take)."""
+    logging.basicConfig(level=logging.INFO, format="tabletop: %(levelname)s: %(message)s")
+    if verbose:
+        logging.getLogger("tabletop").setLevel(logging.DEBUG)
 
 
 def _context(cfg: dict[str, Any], calibration: dict[str, Any] | None = None) -> BuildContext:

@@ -12,8 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from tabletop import registry
-from tabletop.config_checks import (check_calibrations, check_marker_ids, check_scripted_pucks,
-                                    check_sprites, check_studio_markers)
+from tabletop.config_checks import (check_calibrations, check_marker_ids, check_reactor_mains,
+                                    check_scripted_pucks, check_sprites, check_studio_markers)
 from tabletop.config_ports import check_udp_ports
 from tabletop.file_io import file_signature
 from tabletop.files import read_yaml
@@ -152,6 +152,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     _check_on_table(cfg, ctx)
     check_udp_ports(cfg, ctx)
     check_sprites(cfg, ctx)
+    check_reactor_mains(cfg, ctx)
 
 
 def _check_on_table(cfg: dict, ctx: Context) -> None:

@@ -214,3 +214,15 @@ def unmoved_engine_pucks(cfg: dict) -> list[str]:
     return [f"{key}: puck {puck} is moved by no source (the sources move pucks {listed}); "
             "what waits for it never moves" for key, puck in _engine_pucks(cfg)
             if puck not in moved]
+
+
+def check_reactor_mains(cfg: dict, ctx: Context) -> None:
+    """Each Puppet Master engine's main reads a character that can be read
+    (:func:`tabletop.plugins.puppet_master.binding_problem`)."""
+    from tabletop.plugins.puppet_master import binding_problem
+    engines = cfg["engines"]
+    for i, e in enumerate(engines):
+        if e["kind"] == "puppet_master":
+            why = binding_problem(e, engines, i)
+            if why:
+                raise ctx.error(f"engines[{i}].main", why)

@@ -86,11 +86,40 @@ def main_at(main: np.ndarray, t: np.ndarray) -> np.ndarray:
                             wrap_angles(np.interp(t, main[:, 0], np.unwrap(main[:, 3])))])
 
 
+UNITS_APART = 300.0   # the takes' sample rates this many times apart: one is not in seconds
+# (a reactor take in milliseconds against a main in seconds paired its first 4 of 3,200
+# samples into a 75 s demonstration of 4 samples; the other way round, the reaction paired
+# with the main's first 80 ms, a main standing still; both trained without a word)
+LEFT_OUT_SHARE = 0.05   # a reactor take this much outside the playback is said (as unseen pucks)
+
+
+def _rates_agree(m: np.ndarray, r: np.ndarray) -> None:
+    dm, dr = float(np.median(np.diff(m[:, 0]))), float(np.median(np.diff(r[:, 0])))
+    if not 1.0 / UNITS_APART <= dm / dr <= UNITS_APART:
+        raise TakeError(f"the main take's samples are {dm:.3g} s apart (median), the reactor "
+                        f"take's {dr:.3g} s: are both columns 't' in seconds (milliseconds "
+                        "given for one?)")
+
+
+def left_out(main: np.ndarray, react: np.ndarray) -> str:
+    """What pairing leaves out of the reactor take (its samples outside the main take's
+    playback, s), when that is :data:`LEFT_OUT_SHARE` of its samples or more; else ""."""
+    m, r = np.asarray(main, dtype=float), np.asarray(react, dtype=float)
+    out = (r[:, 0] < m[0, 0]) | (r[:, 0] > m[-1, 0])
+    if out.sum() < LEFT_OUT_SHARE * r.shape[0]:
+        return ""
+    return (f"{int(out.sum())} of {r.shape[0]} reactor samples ({r[0, 0]:g}..{r[-1, 0]:g} s) "
+            f"lie outside the main take's playback ({m[0, 0]:g}..{m[-1, 0]:g} s) and are left "
+            "out: is its column 't' on the main take's times?")
+
+
 def pair_takes(main: np.ndarray, react: np.ndarray) -> np.ndarray:
     """One demonstration (k, 7) ``t, main_x, main_y, main_dir, react_x, react_y, react_dir``
     from a main take and a reactor take recorded against its playback: the reactor samples
-    within the main take's time span, times from 0. Raises TakeError if they do not overlap."""
+    within the main take's time span, times from 0. Raises TakeError if they do not overlap
+    or their times are not both in seconds."""
     m, r = _check(main, "main"), _check(react, "reactor")
+    _rates_agree(m, r)
     inside = (r[:, 0] >= m[0, 0]) & (r[:, 0] <= m[-1, 0])
     r = r[inside]
     if r.shape[0] < 2:

@@ -269,7 +269,9 @@ def read_demonstration(args: argparse.Namespace
     """The demonstration (n, 7) from --train (a CSV, or a behaviour folder with its stored
     parameters), or paired from --train-main and --train-react; the stored parameters ({} but
     for a folder); and the file(s) its errors name."""
-    from behaviors.puppet_master.sequential import TakeError, pair_takes
+    import sys
+
+    from behaviors.puppet_master.sequential import TakeError, left_out, pair_takes
     from tabletop.file_io import MAX_DEMONSTRATION_BYTES
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):
@@ -288,9 +290,13 @@ def read_demonstration(args: argparse.Namespace
     for path, cols in ((args.train_main, MAIN_COLUMNS), (args.train_react, OUT_COLUMNS)):
         takes.append(read_rows(path, cols, "take CSV", 2, MAX_DEMONSTRATION_BYTES))
     try:   # what the paired demonstration says (too short, no area) is of both takes
-        return pair_takes(*takes), {}, f"{args.train_main}, {args.train_react} (paired)"
+        demo = pair_takes(*takes)
     except TakeError as exc:
         raise BehaveArgumentError(f"{args.train_main}, {args.train_react}: {exc}") from None
+    note = left_out(*takes)
+    if note:
+        print(f"tabletop behave: warning: {args.train_react}: {note}", file=sys.stderr)
+    return demo, {}, f"{args.train_main}, {args.train_react} (paired)"
 
 
 def main(args: argparse.Namespace) -> int:

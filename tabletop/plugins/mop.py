@@ -51,7 +51,7 @@ from tabletop.plugins.mop_rigs import check_body, make_rig, motion_kind
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (MopError, MotionLoader, action_entries, action_files,
                                         configured_action, configured_actions, load_template,
-                                        read_template, resolve_motion)
+                                        read_template, resolve_motion, twin_of)
 from tabletop.plugins.mop_library import (WINDOW_RANGE, ActionsFile, check_shared_library,
                                           library_actions, library_names, save_to_library)
 from tabletop.files import FileFormatError
@@ -262,7 +262,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                 rigs[c["name"]] = make_rig(c)
             except SkeletonError as exc:
                 raise ctx.error(f"{where}.skeleton", str(exc)) from None
-        seen = set()
+        seen, loaded = set(), []   # loaded: (action, performer, samples, template file)
         for j, a in enumerate(c["actions"]):
             aw = f"{where}.actions[{j}]"
             if not a["name"].strip():   # the followers refused it, naming neither key nor file
@@ -287,10 +287,13 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                 # (load_config of examples/mop.yaml 20 -> 30 ms, mean of 5 on a loaded machine);
                 # read once however many actions name it, the build takes what was read
                 a["template"] = read_template(Path(a["template"]), ctx.read)
-                load_template(a["template"], features[a["performer"] or c["performer"]],
-                              cfg["rate_hz"])
+                performer = a["performer"] or c["performer"]
+                x = load_template(a["template"], features[performer], cfg["rate_hz"])
             except FileFormatError as exc:
                 raise ctx.error(f"{aw}.template", str(exc)) from None
+            twin = twin_of((a["name"], performer, x, a["template"]), loaded)
+            if twin:
+                raise ctx.error(f"{aw}.template", twin)
         for j, m in enumerate(c["motions"]):
             try:
                 _check_motion(ctx, f"{where}.motions[{j}]", c, m, rigs)

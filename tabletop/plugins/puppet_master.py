@@ -302,6 +302,27 @@ def _no_maker(name: str, engines: list[dict]) -> str:
             + f"; the characters are {', '.join(groups)}")
 
 
+def binding_problem(options: dict, engines: list[dict], mine: int) -> str:
+    """Why the main of the Puppet Master engine ``options`` (``engines[mine]`` of the config's
+    ``engines``) cannot be read, or "": a character of its own, one no engine makes, or one
+    made by an engine listed after it that is no Puppet Master engine. Said at the config's
+    load, so a config edit binding one is refused with the installation running on (checked
+    at the build only, the running installation was torn down and its previous config built
+    again)."""
+    made = [_characters_of(e) for e in engines]
+    for name in bound_characters(options["main"]):
+        if name == options["name"]:     # it would chase its own last pose (nearest: always)
+            return f"character {name!r} is this engine's own; a reactor cannot react to itself"
+        k = next((i for i, chars in enumerate(made) if name in chars), -1)
+        if k < 0:
+            return _no_maker(name, engines)
+        if k >= mine and engines[k].get("kind") != "puppet_master":
+            return (f"character {name!r} is not made by an engine listed before "
+                    f"{options['name']!r} (a puppet_master engine may also be listed after it "
+                    "or react back: it is then read one tick old)")
+    return ""
+
+
 def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
     """Characters this engine reads from the previous tick: Puppet Master engines listed at or
     after it, or bound back to it (a mutual pair); and of those, the ones in a cycle with it,
@@ -311,23 +332,16 @@ def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
     it played against that placeholder at the centre of the table. Any other bound character
     must be made by an engine listed earlier."""
     engines, names, mine = ctx.engines(options)
+    why = binding_problem(options, engines, mine)
+    if why:
+        raise PuppetMasterError(f"{ctx.where(options, 'main')}: {why}")
     delayed, cycle = set(), set()
+    made = [_characters_of(e) for e in engines]
     for name in bound_characters(options["main"]):
-        if name == options["name"]:     # it would chase its own last pose (nearest: always)
-            raise PuppetMasterError(f"{ctx.where(options, 'main')}: character {name!r} is "
-                                    "this engine's own; a reactor cannot react to itself")
-        made = [_characters_of(e) for e in engines]
-        k = next((i for i, chars in enumerate(made) if name in chars), -1)
-        if k < 0:
-            raise PuppetMasterError(f"{ctx.where(options, 'main')}: {_no_maker(name, engines)}")
+        k = next(i for i, chars in enumerate(made) if name in chars)
         other = engines[k]
-        is_pm = other.get("kind") == "puppet_master"
-        back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
-        if k >= mine and not is_pm:
-            raise PuppetMasterError(
-                f"{ctx.where(options, 'main')}: character {name!r} is not made by an engine "
-                f"listed before {options['name']!r} (a puppet_master engine may also be listed "
-                "after it or react back: it is then read one tick old)")
+        back = (other.get("kind") == "puppet_master"
+                and options["name"] in bound_characters(other.get("main", {"kind": "x"})))
         if k >= mine or back:
             delayed.add(name)
             if _reads_back(name, options["name"], engines):   # back: its first step

@@ -200,6 +200,7 @@ class Studio(LibraryCommands):
             return
         if self.state != "recording":
             return
+        self._warning_until = -math.inf   # a puck missing is of the recording, stopped now
         part = target.cut()
         if part:                         # the take goes on with another part
             self._part, self.state = part, "ready"

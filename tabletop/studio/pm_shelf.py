@@ -30,6 +30,7 @@ class BehaviorShelf:
     """Picking, renaming, deleting and reloading the library's behaviours (a mixin)."""
 
     started_problems: tuple[str, ...] = ()   # the studio logs the library's bad files itself
+    _edited: Path | None = None   # the folder in play reloaded because its files changed
 
     def items(self) -> list[str]:
         return library.list_behaviors(self.lib)
@@ -98,14 +99,18 @@ class BehaviorShelf:
             elif folder.parent == self.lib and not folder.exists():
                 self._gone(folder)
                 return
-            if str(done) not in self._problems:
-                self._problems.append(str(done))
+            self._problems = [p for p in self._problems
+                              if not _about(p, folder) and p != str(done)] + [str(done)]
             e = self.engine
             self.news.append(
                 f"{folder.name} not reloaded: {done}; the version read before plays on" if reload
                 else f"{folder.name} not played: {done}; still playing "
                      f"{e.behavior_name if e.behavior is not None else 'nothing'}")
         elif done is not None:
+            self._problems = [p for p in self._problems if not _about(p, folder)]
+            if reload and self._edited == folder:   # said as its refusal is (an edit took:
+                self.news.append(f"{folder.name} reloaded: its files changed")   # outside the
+            self._edited = None                        # studio logged too; not a ] re-pick)
             behavior, reactor, source = done
             if self.pending is not None:
                 self.previous = (behavior, source["name"])
@@ -163,8 +168,12 @@ class BehaviorShelf:
         if (self.pending is None and self._training is None and self.playing is not None
                 and self.play_poller is not None and self.play_poller.changed()):
             try:
+                self._edited = self.playing
                 self._load(self.playing)
-                problems = [p for p in problems if not _about(p, self.playing)]
+                if self.loader is None:   # read now; in a worker, its problems stand until
+                    # it has read (flush): dropped here, one still bad was said again after
+                    # "no longer said (fixed or removed)"
+                    problems = [p for p in problems if not _about(p, self.playing)]
             except InputError as exc:
                 if self.playing.parent == self.lib and not self.playing.exists():
                     self._gone(self.playing)

@@ -58,16 +58,23 @@ class Unseen:
 
     def __init__(self) -> None:
         self.missing: dict[int | str, float] = {}   # puck id or input name: seconds
+        self.needed: dict[int | str, float] = {}    # seconds each was needed (else: total)
         self.total = 0.0
         self._t = math.nan
 
-    def tally(self, t: float, missing: list[int | str]) -> None:
-        """A recorded frame at ``t`` (seconds) without ``missing`` (puck ids, input names)."""
+    def tally(self, t: float, missing: list[int | str],
+              needed: list[int | str] | None = None) -> None:
+        """A recorded frame at ``t`` (seconds) without ``missing`` (puck ids, input names) of
+        those it ``needed`` (None: all, the whole recording). A sequential take needs its
+        main puck in the main part alone and its reactor puck in the reaction alone: a
+        reactor puck lost 0.6 s of a 5.0 s reaction was said "of 10.1 s", both parts."""
         dt = t - self._t if t > self._t else 0.0      # (nan on the first frame: 0)
         self._t = t
         self.total += dt
         for p in missing:
             self.missing[p] = self.missing.get(p, 0.0) + dt
+        for p in needed or ():
+            self.needed[p] = self.needed.get(p, 0.0) + dt
 
     def pause(self) -> None:
         """The recording pauses (between a sequential take's parts): no time passes for it."""
@@ -79,10 +86,11 @@ class Unseen:
         def order(p: int | str) -> tuple[int, int, str]:   # puck 2 before puck 10
             return (0, p, "") if isinstance(p, int) else (1, 0, p)
 
+        of = {p: self.needed.get(p, self.total) for p in self.missing}
         return ", ".join(f"{f'puck {p}' if isinstance(p, int) else p} unseen {s:.1f} s of "
-                         f"{self.total:.1f} s"
+                         f"{of[p]:.1f} s"
                          for p, s in sorted(self.missing.items(), key=lambda m: order(m[0]))
-                         if self.total > 0 and s >= self.SAY_FRACTION * self.total)
+                         if of[p] > 0 and s >= self.SAY_FRACTION * of[p])
 
     def note(self) -> str:
         """What the trained line adds: "; puck 2 unseen 4.6 s of 9.3 s (left out)", or ""."""

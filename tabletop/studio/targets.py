@@ -182,7 +182,7 @@ class PuppetMasterTarget(BehaviorShelf):
                 self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
             need = ((self.main_puck, m), (self.react_puck, r))
         missing = [p for p, q in need if q is None]
-        self.unseen.tally(frame.t, missing)
+        self.unseen.tally(frame.t, missing, [p for p, _ in need])
         return f"recording: no {', '.join(f'puck {p}' for p in missing)}" if missing else ""
 
     def ended(self) -> bool:

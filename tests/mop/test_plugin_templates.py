@@ -78,3 +78,27 @@ def test_a_template_changed_since_the_load_is_read_again_by_the_build(tmp_path, 
     assert np.array_equal(_followed(stage, "lizard")["circle"], zigzag)
     assert np.array_equal(_followed(stage, "gecko")["circle"], zigzag)
     assert reads["circle.csv"] == 2         # (read again once for each action naming it)
+
+
+def test_two_actions_of_one_character_on_one_template_are_refused_at_load(tmp_path):
+    """A character given a second action on the same samples (for another motion) started
+    without a word, and that action never played: the follower takes them as one (a bird's
+    "wave2" on wave.csv: 0 of 2,227 ticks). The same gesture for two characters is fine."""
+    import pytest
+
+    from tabletop.config import ConfigError
+    for name in ("circle.csv", "line.csv"):
+        shutil.copy(GESTURES / name, tmp_path / name)
+    shutil.copy(GESTURES / "circle.csv", tmp_path / "round.csv")
+    data = _data()
+    validate_config(data, str(tmp_path / "test.yaml"), tmp_path)      # circle for both: fine
+    lizard = data["engines"][0]["characters"][0]["actions"]
+    for template, said in (("circle.csv", "the same template as action 'circle'"),
+                           ("round.csv", "round.csv holds the same samples as the template of "
+                                         "action 'circle'")):
+        lizard.append({"name": "curl", "template": template, "motion": "curl"})
+        with pytest.raises(ConfigError) as exc:
+            validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
+        assert "engines[0].characters[0].actions[2].template: " in str(exc.value)
+        assert said in str(exc.value) and "'curl' would never play" in str(exc.value)
+        lizard.pop()

@@ -265,6 +265,20 @@ def test_sequential_training_from_files(files, tmp_path, capsys):
                   tmp_path / "o.csv") == 2
     err = capsys.readouterr().err
     assert "short.csv, " in err and "react_take.csv (paired): demonstration lasts" in err
+    # a reactor take in milliseconds is refused naming both takes; one recorded on its own
+    # clock, 3 s after the main's, trains with the part outside the playback said
+    ms = demo[::2, [0, 4, 5, 6]] * [1000.0, 1.0, 1.0, 1.0]
+    write_csv(tmp_path / "ms.csv", ["t", "react_x", "react_y", "react_dir"], ms.tolist())
+    assert behave("--train-main", tmp_path / "main_take.csv", "--train-react", tmp_path / "ms.csv",
+                  "--input", d / "main.csv", "--out", tmp_path / "o.csv") == 2
+    err = capsys.readouterr().err
+    assert "main_take.csv, " in err and "ms.csv: " in err and "milliseconds given" in err
+    own = demo[::2, [0, 4, 5, 6]] + [3.0, 0.0, 0.0, 0.0]
+    write_csv(tmp_path / "own.csv", ["t", "react_x", "react_y", "react_dir"], own.tolist())
+    assert behave("--train-main", tmp_path / "main_take.csv", "--train-react", tmp_path / "own.csv",
+                  "--input", d / "main.csv", "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "own.csv: " in err and "left out" in err
 
 @pytest.mark.parametrize("rate", ["--rate=1", "--param=rate_hz=1", "--param=rate_hz=2"])
 def test_the_lowest_rates_train_and_generate(files, tmp_path, rate):

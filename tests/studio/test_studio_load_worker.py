@@ -2,6 +2,7 @@
 it hand the folder to a worker; the tick that triggers it returns with no training in it, the
 character plays on with its behaviour, and the new one plays from a tick boundary."""
 
+import math
 import shutil
 import threading
 from pathlib import Path
@@ -396,3 +397,62 @@ def test_a_replayed_reload_naming_an_unknown_parameter_says_which(tmp_path, capl
         source, parameters={**source["parameters"], "demo": 1}))
     assert "for a not trained: unknown behaviour parameter(s) demo;" in said, said
     assert "TypeError" not in said, said
+
+
+def test_a_folder_edited_from_one_bad_value_to_another_is_said_once(tmp_path, trainings, caplog):
+    """behavior.yaml of the behaviour in play edited from one bad value to another: the reload
+    dropped the folder's problem as it began, before the worker read the file, so the log said
+    the new error, then "no longer said (fixed or removed)" of it while it was still bad, then
+    the same error again."""
+    calls, release = trainings
+    release.set()
+    e, bench, target, lib, pucks = _studio(tmp_path)
+    target.lib_poller.every_s = 0.0
+    bully, y = e.behavior, lib / "bully" / "behavior.yaml"
+    text = y.read_text()
+    seq, t = 2, 1.5
+    with caplog.at_level("INFO", logger="tabletop"):
+        for bad in ("ratio: -1.0", "ratio: abc"):
+            y.write_text(text.replace("  rate_hz:", f"  {bad}\n  rate_hz:"))
+            # the library's listing looks first, the behaviour in play's poller a look later
+            # (each looks once a second, on its own phase)
+            target.play_poller._next = math.inf
+            for i in range(4):       # the loop's looks, and the ticks the worker swaps in at
+                bench.studio.poll()
+                target.play_poller._next = 0.0
+                target.loader.wait()
+                seq, t = seq + 1, t + 0.1
+                bench.step(Frame(seq=seq, t=t, pucks=pucks))
+    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("library: ")]
+    assert e.behavior is bully
+    assert len(said) == 3, said
+    assert "-1" in said[0] and "abc" in said[1] and "abc" not in said[2], said
+    assert said[2].startswith("library: no longer said (fixed or removed): ") and "-1" in said[2]
+
+
+def test_a_reload_that_took_is_said_as_one_refused_is(tmp_path, trainings, caplog):
+    """A parameter edited in behavior.yaml of the behaviour in play: the studio said a reload
+    it refused ("bully not reloaded: ...") but nothing of one that took, which outside the
+    studio is logged ("behaviour ... reloaded")."""
+    calls, release = trainings
+    release.set()
+    e, bench, target, lib, pucks = _studio(tmp_path)
+    bully, y = e.behavior, lib / "bully" / "behavior.yaml"
+    y.write_text(y.read_text().replace("  rate_hz:", "  ratio: 2.0\n  rate_hz:"))
+    with caplog.at_level("INFO", logger="tabletop"):
+        bench.studio.poll()
+        target.loader.wait()
+        bench.step(Frame(seq=2, t=1.5, pucks=pucks))
+        bench.studio.poll()
+        _, studio = bench.step(Frame(seq=3, t=1.6, pucks=pucks))
+    assert e.behavior is not bully and e.behavior.params.ratio == 2.0
+    assert "bully reloaded: its files changed" in studio.label, studio.label
+    assert "studio: bully reloaded" in caplog.text
+    # the item in play picked again (] on a library of one) is no edit: not said so
+    caplog.clear()
+    with caplog.at_level("INFO", logger="tabletop"):
+        target.use("bully")
+        target.loader.wait()
+        bench.step(Frame(seq=4, t=2.0, pucks=pucks))
+        bench.studio.poll()
+    assert "reloaded" not in caplog.text, caplog.text

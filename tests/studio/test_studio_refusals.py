@@ -378,3 +378,21 @@ def test_the_take_the_last_session_left_at_quit_is_said_at_the_next_start(tmp_pa
     assert "studio: pet: take recorded, not tried, at quit; nothing saved: a replay saves no " \
         "takes (the run it replays did)" in caplog.text, caplog.text
     assert not list(studio_dir.glob("*-take*")), list(studio_dir.iterdir())
+
+
+def test_a_missing_puck_is_not_said_once_the_recording_stopped(tmp_path):
+    """Puck 2 unseen in a take's last frames: "recording: no puck 2" stayed on the status line
+    for 0.2 s after the stop, beside "training the take..." and the trained take's "try it"."""
+    (e,) = designer(tmp_path, background_training=True)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("afraid", seed=8, seconds=6)
+    labels = []
+    for i, f in enumerate(demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)})):
+        if 196 <= i <= 200:
+            f = Frame(seq=f.seq, t=f.t, pucks=f.pucks[:1], commands=f.commands)
+        studio = bench.step(f)[1]
+        labels.append((studio.action, studio.label))
+    assert "recording: no puck 2" in labels[199][1]
+    after = labels[200:210]
+    assert after[0][0] in ("training", "trying")
+    assert not any("recording" in lab for _, lab in after), after
