@@ -98,7 +98,7 @@ def main() -> None:
         def run() -> None:
             t = d.advance()
             d.e._fingers(t, d.touches())
-            d.e._posing(t, DT)
+            d.e._posing(DT)
             d.e.mode = "posing"  # a recognised action would change the stage measured
         return run
 

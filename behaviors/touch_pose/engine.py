@@ -132,9 +132,18 @@ class TouchPose(ActionControl):
     # --- view ----------------------------------------------------------------------------------
 
     def _camera(self, azimuth: float, elevation: float) -> Camera:
+        """The camera drawing the standing figure's middle at ``centre``, moved just enough
+        that the standing figure is drawn ``TABLE_MARGIN`` inside the table's edges (where it
+        fits). ``at: [0.6, 0.1]`` (0.3 m tall, view 90,15) drew its feet at y = -0.041 m."""
         cam = Camera(azimuth, elevation, self.scale)
         mid = cam.screen(np.array([0.0, self.stand_height / 2, 0.0]))
-        return Camera(azimuth, elevation, self.scale, self.centre - mid * self.scale)
+        origin = self.centre - mid * self.scale
+        drawn = cam.screen(self.body.points(self.m.stand)) * self.scale + origin
+        lo, hi = drawn.min(axis=0), drawn.max(axis=0)
+        room = np.array(self.table) - TABLE_MARGIN
+        fits = hi - lo <= room - TABLE_MARGIN
+        shift = np.where(lo < TABLE_MARGIN, TABLE_MARGIN - lo, np.minimum(room - hi, 0.0))
+        return Camera(azimuth, elevation, self.scale, origin + np.where(fits, shift, 0.0))
 
     def excluded(self) -> set[str]:
         """Actions whose trajectory points within 45 degrees of the viewing line from here."""

@@ -20,6 +20,16 @@ the pelvis kept), so the character walks away by its feet. With it, section 4's 
 posing (bounded to 0.15 m and 30 degrees) still blends postures asked for in place worse (median
 0.035 -> 0.040) and leaves several fingers farther (p90 0.0058 -> 0.0085), so samples stay in place
 (:mod:`behaviors.touch_pose.samples`).
+
+Planted feet are held by CCD alone, which stalls on a straight leg whose goal is nearer the hip
+(a crouching blend drops the pelvis 0.12 m: a foot is left 0.14 m off, under the ground).
+Measured alternative, a foot CCD leaves over 0.01 m off placed by its leg's own IK (knee bent to
+the goal's distance from the hip, hip aimed at it): of 48 drags (each part 0.1 m four ways, views
+90,15 30,20 200,10, 0.3 m tall) a foot under the ground in 32 -> 4 (held-out views 60,30 and
+250,25: 21 -> 3), bench/touch_pose_posing.py's drag gaps p90 0.0044 -> 0.0023 m; but the jump's
+largest output turn in one frame 7.4 -> 8.1 degrees (its start: the planted legs' bent knees
+farther from the clip's first posture), the punch's 13.1 -> 13.2, the pelvis scene's sway one
+second after the fingers lift 0.70 -> 0.87 degrees (bench/touch_pose_turns.py, _effect.py).
 """
 
 from __future__ import annotations
