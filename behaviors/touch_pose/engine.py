@@ -357,7 +357,7 @@ class TouchPose(ActionControl):
             for foot in self._grounded(self.target, prev):
                 if foot not in goals:
                     goals[foot] = prev[PARTS.index(foot)]
-        return self.ccd.solve(pose, goals) if goals else pose
+        return self.ccd.solve(pose, goals, legs=keep_feet) if goals else pose
 
     def _posing(self, dt: float) -> None:
         names, targets = self._constraints()

@@ -20,16 +20,6 @@ the pelvis kept), so the character walks away by its feet. With it, section 4's 
 posing (bounded to 0.15 m and 30 degrees) still blends postures asked for in place worse (median
 0.035 -> 0.040) and leaves several fingers farther (p90 0.0058 -> 0.0085), so samples stay in place
 (:mod:`behaviors.touch_pose.samples`).
-
-Planted feet are held by CCD alone, which stalls on a straight leg whose goal is nearer the hip
-(a crouching blend drops the pelvis 0.12 m: a foot is left 0.14 m off, under the ground).
-Measured alternative, a foot CCD leaves over 0.01 m off placed by its leg's own IK (knee bent to
-the goal's distance from the hip, hip aimed at it): of 48 drags (each part 0.1 m four ways, views
-90,15 30,20 200,10, 0.3 m tall) a foot under the ground in 32 -> 4 (held-out views 60,30 and
-250,25: 21 -> 3), bench/touch_pose_posing.py's drag gaps p90 0.0044 -> 0.0023 m; but the jump's
-largest output turn in one frame 7.4 -> 8.1 degrees (its start: the planted legs' bent knees
-farther from the clip's first posture), the punch's 13.1 -> 13.2, the pelvis scene's sway one
-second after the fingers lift 0.70 -> 0.87 degrees (bench/touch_pose_turns.py, _effect.py).
 """
 
 from __future__ import annotations
@@ -39,7 +29,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from behaviors.touch_pose.humanoid import Humanoid, Pose, qmul as _qmul, qrot as _qrot
+from behaviors.touch_pose.humanoid import PARTS, Humanoid, Pose, qmul as _qmul, qrot as _qrot
 
 #: Largest distance (metres of the character's scale) IK may move a part away from the blend.
 MAX_CORRECTION = 0.2
@@ -64,6 +54,14 @@ def _qaxis(axis: Sequence[float], angle: float) -> tuple[float, float, float, fl
     return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
 
 
+#: The joints of each foot's leg, hip first.
+LEGS = {"right_foot": ("right_hip", "right_knee", "right_ankle"),
+        "left_foot": ("left_hip", "left_knee", "left_ankle")}
+#: A planted foot farther than this from its goal after CCD (metres of the character's scale)
+#: is solved again from the leg as it stood.
+REPLANT = 0.01
+
+
 class CCD:
     """CCD solver for one humanoid. Every chain hangs from the pelvis, which CCD never turns, so
     each chain is solved from the pelvis transform in plain floating point (a few microseconds
@@ -75,6 +73,8 @@ class CCD:
         self.tolerance = tolerance
         idx = {n: i for i, n in enumerate(body.names)}
         self.chains = {p: [idx[j] for j in js] for p, js in CHAINS.items()}
+        self.legs = {f: [idx[j] for j in js] for f, js in LEGS.items()}
+        self._part_index = {p: k for k, p in enumerate(PARTS)}
         self.paths: dict[str, list[int]] = {}
         for part, chain in self.chains.items():
             path = [body.part_body[part]]
@@ -100,9 +100,90 @@ class CCD:
         self._order = {p: [(j, self.paths[p].index(j)) for j in js]
                        for p, js in self.chains.items()}
 
-    def solve(self, pose: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
+    def solve(self, pose: Pose, goals: Mapping[str, np.ndarray], legs: bool = False) -> Pose:
         """``pose`` (a copy) with each part in ``goals`` (part -> model-frame point) moved towards
-        its goal; the pelvis goal translates the root first."""
+        its goal; the pelvis goal translates the root first. With ``legs``, a foot CCD leaves
+        over :data:`REPLANT` from its goal is placed by the leg's own IK (:meth:`_replanted`)."""
+        out = self._solve(pose, goals)
+        return self._replanted(out, goals) if legs else out
+
+    def _replanted(self, out: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
+        """``out`` with each foot left over :data:`REPLANT` from its goal placed by its leg: the
+        knee bent to the goal's distance from the hip (:meth:`_bend`), the hip turned toward it
+        (:meth:`_aim`); kept when the goals are missed by less in all.
+        Section 4 fixes the planted feet by IK, but CCD stalls on a straight leg whose goal is
+        nearer the hip (a crouching sample's pelvis 0.12 m lower: the foot was left 0.14 m off,
+        under the ground, the other lifted past the ground height and let go). Planted feet
+        under drags of each part 0.1 m four ways from three views (48, physics off, 0.3 m tall):
+        drags with a foot moved over 0.01 m 41 -> 30, with a foot under the ground 32 -> 4,
+        median foot move 0.037 -> 0.025 m (the largest, 0.077 m, the pelvis lifted past the
+        legs' reach, unchanged); bench/touch_pose_posing.py's drag gaps p90 0.0027 -> 0.0021
+        (in place), 0.0044 -> 0.0023 and 0.0053 -> 0.0038 (several fingers), drift unchanged."""
+        parts = self.body.parts(out)
+        missed = [f for f in LEGS if f in goals and
+                  np.linalg.norm(parts[self._part_index[f]] - goals[f]) > REPLANT]
+        if not missed:
+            return out
+        retry = out.copy()
+        local = [tuple(q) for q in retry.rots.tolist()]
+        p0 = tuple(retry.root.tolist())
+        for foot in missed:
+            self._bend(foot, goals[foot], local, p0)
+            self._aim(foot, goals[foot], local, p0)
+        retry.rots = np.array(local)
+        again = self.body.parts(retry)
+
+        def miss(ps: np.ndarray) -> float:
+            return sum(float(np.linalg.norm(ps[self._part_index[p]] - g))
+                       for p, g in goals.items() if p in self._part_index)
+        return retry if miss(again) < miss(parts) else out
+
+    def _bend(self, foot: str, goal: np.ndarray, local: list, p0: tuple) -> None:
+        """Bend ``foot``'s knee (in place on ``local``) so the foot lies as far from the hip as
+        ``goal`` (bisection between the straight leg and the knee's limit). CCD cannot: with the leg straight and the
+        goal nearer the hip, the knee's turn toward it is a hyperextension, clamped to its limit,
+        and the hip's turn then points the straight leg past the goal."""
+        hip, knee, _ = self.legs[foot]
+        o = _qrot(local[0], self._offset[hip])
+        at = np.add(p0, o)
+        want = float(np.linalg.norm(np.asarray(goal) - at))
+        axis = self._axis[knee]
+
+        def reach(angle: float) -> float:
+            local[knee] = _qaxis(axis, angle)
+            return float(np.linalg.norm(np.subtract(self._effector(foot, local, local[0], p0),
+                                                    at)))
+        # from the straight leg (0, the farthest reach) to the knee's bent limit (the nearest)
+        lo, hi = self._lo[knee], min(0.0, self._hi[knee])
+        if reach(hi) <= want:      # the goal beyond reach: the leg straight
+            return
+        for _ in range(24):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if reach(mid) > want else (mid, hi)
+        local[knee] = _qaxis(axis, 0.5 * (lo + hi))
+
+    def _aim(self, foot: str, goal: np.ndarray, local: list, p0: tuple) -> None:
+        """Turn ``foot``'s hip (in place on ``local``, the shortest turn, within its limit) so
+        the leg points from the hip at ``goal``."""
+        hip = self.legs[foot][0]
+        q0 = local[0]
+        at = np.add(p0, _qrot(q0, self._offset[hip]))
+        v1 = np.subtract(self._effector(foot, local, q0, p0), at)
+        v2 = np.asarray(goal, dtype=float) - at
+        c = np.cross(v1, v2)
+        s = float(np.linalg.norm(c))
+        ang = math.atan2(s, float(v1 @ v2))
+        if s < 1e-9 or ang < 1e-6:
+            return
+        la = _qrot((q0[0], -q0[1], -q0[2], -q0[3]), tuple((c / s).tolist()))
+        q = _qmul(_qaxis(la, ang), local[hip])
+        if 2.0 * math.acos(min(1.0, abs(q[0]))) > self._limit[hip]:
+            n = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+            k = (1.0 if q[0] >= 0 else -1.0) * self._sin_half[hip] / n
+            q = (self._cos_half[hip], q[1] * k, q[2] * k, q[3] * k)
+        local[hip] = q
+
+    def _solve(self, pose: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
         out = pose.copy()
         if "pelvis" in goals:
             out.root = np.asarray(goals["pelvis"], dtype=float).copy()
