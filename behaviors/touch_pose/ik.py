@@ -118,7 +118,12 @@ class CCD:
         drags with a foot moved over 0.01 m 41 -> 30, with a foot under the ground 32 -> 4,
         median foot move 0.037 -> 0.025 m (the largest, 0.077 m, the pelvis lifted past the
         legs' reach, unchanged); bench/touch_pose_posing.py's drag gaps p90 0.0027 -> 0.0021
-        (in place), 0.0044 -> 0.0023 and 0.0053 -> 0.0038 (several fingers), drift unchanged."""
+        (in place), 0.0044 -> 0.0023 and 0.0053 -> 0.0038 (several fingers), drift unchanged;
+        held-out views 60,30 and 250,25: a foot under the ground 21 -> 3. Its price, taken for
+        feet that stay on the floor: bench/touch_pose_turns.py's jump output 7.4 -> 8.1 degrees
+        in one frame (bent planted legs start farther from the clip's first pose), punch 13.1
+        -> 13.2; bench/touch_pose_effect.py's pelvis sway a second after the fingers lift 0.70
+        -> 0.87 degrees (the punch's extra turn 13.1 -> 4.9)."""
         parts = self.body.parts(out)
         missed = [f for f in LEGS if f in goals and
                   np.linalg.norm(parts[self._part_index[f]] - goals[f]) > REPLANT]
