@@ -145,9 +145,9 @@ class CCD:
 
     def _bend(self, foot: str, goal: np.ndarray, local: list, p0: tuple) -> None:
         """Bend ``foot``'s knee (in place on ``local``) so the foot lies as far from the hip as
-        ``goal`` (bisection between the straight leg and the knee's limit). CCD cannot: with the leg straight and the
-        goal nearer the hip, the knee's turn toward it is a hyperextension, clamped to its limit,
-        and the hip's turn then points the straight leg past the goal."""
+        ``goal`` (bisection between the straight leg and the knee's limit). CCD cannot: with the
+        leg straight and the goal nearer the hip, the knee's turn toward it is a hyperextension,
+        clamped to its limit, and the hip's turn then points the straight leg past the goal."""
         hip, knee, _ = self.legs[foot]
         o = _qrot(local[0], self._offset[hip])
         at = np.add(p0, o)
