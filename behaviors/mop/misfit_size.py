@@ -26,7 +26,7 @@ import numpy as np
 from behaviors.kernel_cache import compiled
 
 #: A size moved by more than this factor in one sample is a move at once (no slow convergence).
-RESIZE_JUMP = 1.05
+RESIZE_JUMP = 1.1
 
 
 @compiled(numba.void(numba.float64[:, ::1], numba.intp, numba.intp, numba.float64[::1]))

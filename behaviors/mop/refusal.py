@@ -361,7 +361,8 @@ class Refusal:
         ``g``: followed states (bank index); ``new``: templates whose performance began anew.
         The misfit of the remembered samples is read at the current size estimate (the
         residual ``u / size - v`` is kept as sums of ``|u|^2``, ``u.v`` and ``|v|^2``), so a size
-        that converges late does not leave the early samples counted as strays."""
+        that converges late does not leave the early samples counted as strays; one that moves
+        at once reads them no worse than before it moved (:mod:`behaviors.mop.misfit_size`)."""
         if np.count_nonzero(new):
             self._forget_shape(new)
         u, c = self._mapped(x)
