@@ -23,9 +23,9 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import (blocked, commitment, coverage, group_layout, group_steps, holding,
-                           invariance, member_validity, members, path_kernel, reversal, rivals,
-                           shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel,
-                           validity)
+                           invariance, member_validity, members, misfit_size, path_kernel,
+                           reversal, rivals, shape_lead, size_probe, spotting, tempo, threshold,
+                           threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -48,8 +48,9 @@ from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, group_layout, group_steps,
-               holding, invariance, member_validity, members, path_kernel, reversal, rivals,
-               shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel, validity)
+               holding, invariance, member_validity, members, misfit_size, path_kernel, reversal,
+               rivals, shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel,
+               validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -300,6 +301,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 uu += u[c] * u[c]
                 uv += u[c] * vc
                 vv += vc * vc
+            if scaled:   # a size moved at once (misfit_size)
+                misfit_size.reread(misfit, k, k + 1, size)
             if not (rest and UNJUDGED_AT_REST) or misfit_w[k] <= 0.0:
                 misfit[k, 0] = misfit[k, 0] * misfit_decay + uu
                 misfit[k, 1] = misfit[k, 1] * misfit_decay + uv

@@ -249,6 +249,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop import coverage, threshold
+from behaviors.mop.misfit_size import reread
 from behaviors.mop.path_kernel import nearest_on_paths
 from behaviors.mop.spotting import SHARE_SIZES
 from behaviors.mop.validity import unjudged
@@ -307,7 +308,8 @@ class Refusal:
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2
         k = len(self.names)
-        self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
+        # (|u|^2, u.v, |v|^2 and the size last read at: misfit_size.reread)
+        self._misfit, self._misfit_w = np.zeros((k, 4)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
         self._reached = np.zeros(k)   # the input's farthest reach (coverage.RUN_AHEAD)
         # the ergodic states' weights, then the mirror chains' (threshold.threshold_model_step)
@@ -359,7 +361,8 @@ class Refusal:
         ``g``: followed states (bank index); ``new``: templates whose performance began anew.
         The misfit of the remembered samples is read at the current size estimate (the
         residual ``u / size - v`` is kept as sums of ``|u|^2``, ``u.v`` and ``|v|^2``), so a size
-        that converges late does not leave the early samples counted as strays."""
+        that converges late does not leave the early samples counted as strays; one that moves
+        at once reads them no worse than before it moved (:mod:`behaviors.mop.misfit_size`)."""
         if np.count_nonzero(new):
             self._forget_shape(new)
         u, c = self._mapped(x)
@@ -367,8 +370,10 @@ class Refusal:
         v = self._nearest_on_path(u / size[:, None] + c, g) - c
         decay = self._misfit_decay
         sums, w = self._misfit, self._misfit_w
+        if self.invariance == "scale":   # a size moved at once (misfit_size)
+            reread(sums, 0, len(self.names), self._size)
         upd = w <= 0 if unjudged(rests) else slice(None)
-        sums[upd] *= decay
+        sums[upd, :3] *= decay
         sums[upd, 0] += (u * u).sum(axis=1)[upd]
         sums[upd, 1] += (u * v).sum(axis=1)[upd]
         sums[upd, 2] += (v * v).sum(axis=1)[upd]

@@ -31,6 +31,23 @@ def unrelated_at_1x(templates: dict[str, np.ndarray], name: str, seed: int) -> n
     return performance(rng, path, 1.0)[0]
 
 
+def held_out_draw(seed: int, want: str, want_scale: float, joints=None):
+    """The held-out templates and the sized performance of ``want`` at ``want_scale`` that
+    ``bench/follow_seeds.py`` draws with ``seed`` (its sized section's draws, in order; with
+    ``joints=MOCAP`` and seed 13 ``bench/follow_quality.py``'s tuned ones)."""
+    from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates, performance
+    templates = {**gesture_templates(),
+                 **mocap_templates(joints=MOCAP_HELD_OUT if joints is None else joints)}
+    rng = np.random.default_rng(seed)
+    for name, tpl in templates.items():
+        for scale in (0.6, 0.7, 0.85, 1.0, 1.2, 1.4, 1.5):
+            pause = float(rng.uniform(0.3, 1.0)) if rng.uniform() < 0.3 else 0.0
+            x, prog = performance(rng, tpl, scale, pause_s=pause)
+            if name == want and scale == want_scale:
+                return templates, x, prog
+    raise KeyError(want)
+
+
 def group_beside_alone(make: Callable, streams: list[np.ndarray]) -> list[int]:
     """Each of ``streams`` stepped by a member of one ``FollowerGroup`` (of ``make()``
     followers) and by a follower of its own beside it: every state equal (valid, best, progress
