@@ -70,18 +70,10 @@ def bend_waits(turns: np.ndarray, source: np.ndarray, starts: np.ndarray,
         bend = source[s + bent[0]]
         out[s:s + n] = ((source[s:s + n] >= bend - BEND_AHEAD)
                         & ((source[s:s + n] < bend) | (not UNTIL_BEND)))
-        # past the bend: where a take has the input's turn to show (confirmed)
-        out[s:s + n] += 2.0 * (source[s:s + n] >= bend)
     return out
 
 
-def confirmed(wait: float, turn: float) -> bool:
-    """Whether an action taken at a state coded ``wait`` (:func:`bend_waits`: within its wait
-    or past its bend) was taken on the input's own turn ``turn`` (radians): its bend seen."""
-    return wait > 0.0 and abs(turn) >= BEND
-
-
-def waits(wait: float, turn: float) -> bool:
+def waits(wait: bool, turn: float) -> bool:
     """Whether a new action at a state where it ``wait``-s (:func:`bend_waits`) is not taken yet:
     the input's turning since the gesture began, ``turn`` (radians), is under :data:`BEND`."""
-    return wait == 1.0 and abs(turn) < BEND
+    return wait and abs(turn) < BEND

@@ -303,7 +303,6 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
         self._drive_leapt = 0.0   # progress leapt while it did not drive (validity.leapt)
-        self._drive_bent = False   # taken on its bend (bends.confirmed)
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
         self._after_end = 0
         self._peak, self._peak_k = 0.0, -1

@@ -66,7 +66,7 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         least = np.inf
         for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
             least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
-        ok[i] = least <= limit[i] and not (waits[off + c] == 1.0 and abs(turn[i]) < bend)
+        ok[i] = least <= limit[i] and not (waits[off + c] > 0.0 and abs(turn[i]) < bend)
 
 
 @compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,

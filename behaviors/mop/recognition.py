@@ -90,7 +90,6 @@ import math
 
 import numpy as np
 
-from behaviors.mop import bends
 from behaviors.mop.blocked import (BLOCKED_SAMPLES, BLOCKED_SIZE, blocked_run, lead_of_size,
                                    likeliest_other)
 from behaviors.mop.forward import WindowedForward
@@ -99,8 +98,8 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (TAKEN_PERFORMED, backs_first, carried, leapt, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
+                                    still_unbegun, unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -337,8 +336,7 @@ class Recognition:
                 # while they stop (validity.stalls)
                 ok = ok and not stalls(self._drive_from + self._drive_leapt, self._drive_peak,
                                        self._drive_moved, rests,
-                                       TAKEN_PERFORMED if self._drive_bent
-                                       else self._drive_from - self._attempt_from[bi],
+                                       self._drive_from - self._attempt_from[bi],
                                        abs(step))
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
@@ -354,9 +352,6 @@ class Recognition:
             self._drive_from = self._drive_peak = progress_list[bi]
             self._drive_leapt = 0.0
             self._drive_moved = False
-            # taken on the input's own bend: performed as far as it needs to be (bends.confirmed)
-            self._drive_bent = self._turn is not None and bends.confirmed(
-                float(self._bend_wait[int(g[bi])]), self._turn_in)
         if valid and not rests:
             self._drive_moved = True
         self._acquired = bi if valid else -1
