@@ -61,10 +61,10 @@ on every seed (0.9076 / 0.8938 / 0.9162 / 0.9028 / 0.8937 / 0.8910, 0.8925 / 0.8
 within 20% 101 0.344 -> 0.313: that figure eight, from rest, recognised at 0.188 -> 0.272. It
 was taken at 0.219 of the eight (size 0.77), the 1x diagonal at 0.216 (0.99): no window tells
 them (one sample later, 0.196, is still within 20%, but it would take at most one of the 1x
-diagonal's 14 valid samples of 93). The wait's cost is the eight's own recognition before its bend (six back
-to back 0.246 -> 0.284, the eight 0.244 -> 0.297), with held-out aspect 1.2 0.427 -> 0.406,
-bent 10% 0.4704 -> 0.4696, held-out wrong valid over a pause 0 -> 0.005 (after a gesture mean
-0.058 -> 0.030).
+diagonal's 14 valid samples of 93). The wait's cost is the eight's own recognition before its
+bend (six back to back 0.246 -> 0.284, the eight 0.244 -> 0.297), with held-out aspect 1.2
+0.427 -> 0.406, bent 10% 0.4704 -> 0.4696, held-out wrong valid over a pause 0 -> 0.005 (after
+a gesture mean 0.058 -> 0.030).
 """
 
 from __future__ import annotations
