@@ -73,6 +73,8 @@ import math
 
 import numpy as np
 
+from behaviors.mop import bends
+
 #: Turning (below) is measured along steps of this many still radii (the smallest column's)...
 TURN_STEP = 6.0
 #: ... and the first direction once the path left its start by this many steps.
@@ -122,10 +124,13 @@ class Turning:
         self._turn_step = TURN_STEP * float(self._still_radius.min())
         b = self.bank
         self._turn = None
-        if self.dim == 2 and self.invariance != "none" and math.isfinite(self.turn_limit):
-            self._turn = np.concatenate([turning(b.template(k) * b.scale[k] + b.center[k],
-                                                 self._turn_step)
-                                         for k in range(len(self.names))])
+        self._bend_wait = np.zeros(len(b.means))   # (bends.bend_waits)
+        if self.dim == 2 and self.invariance != "none" and (math.isfinite(self.turn_limit)
+                                                             or bends.BEND > 0):
+            path = [b.template(k) * b.scale[k] + b.center[k] for k in range(len(self.names))]
+            self._turn = np.concatenate([turning(p, self._turn_step) for p in path])
+            self._bend_wait = bends.bend_waits(self._turn, b.source, b.starts, b.lengths,
+                                               np.concatenate(path))
 
     def _turned(self, x: np.ndarray, bi: int, g: float) -> bool:
         """After sample ``x``: the input's turning since the gesture began, and whether it fits
@@ -140,5 +145,7 @@ class Turning:
         lo = int(self.bank.starts[bi])
         hi = lo + int(self.bank.lengths[bi]) - 1
         c = int(g)
+        # (a straight first stroke waits for the input's turn: bends.waits)
         return turn_fits(self._turn[max(lo, c - TURN_REACH):min(hi, c + TURN_REACH) + 1],
-                         self._turn_in, self.turn_limit)
+                         self._turn_in, self.turn_limit) and not bends.waits(
+                             bool(self._bend_wait[c]), self._turn_in)
