@@ -35,6 +35,9 @@ BEND_AHEAD = 0.1
 #: :data:`BEND_AHEAD` after it: a stroke whose direction drifts by 0.5 rad and stays (the
 #: held-out walk wrist, 0.52-0.66 rad from 0.22 to 0.43 of it, then a turn back) goes on straight.
 BENT = 1.0
+#: Whether the wait ends once the followed state reaches the bend (past it, the state itself
+#: shows the template's turn) as well as once the input turned.
+UNTIL_BEND = True
 
 
 def straight(path: np.ndarray) -> bool:
@@ -64,7 +67,9 @@ def bend_waits(turns: np.ndarray, source: np.ndarray, starts: np.ndarray,
         after = source[s:s + n] <= source[s + bent[0]] + BEND_AHEAD
         if np.abs(turns[s:s + n][after]).max() < BENT:
             continue
-        out[s:s + n] = source[s:s + n] >= source[s + bent[0]] - BEND_AHEAD
+        bend = source[s + bent[0]]
+        out[s:s + n] = ((source[s:s + n] >= bend - BEND_AHEAD)
+                        & ((source[s:s + n] < bend) | (not UNTIL_BEND)))
     return out
 
 
