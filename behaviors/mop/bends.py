@@ -68,9 +68,21 @@ def bend_waits(turns: np.ndarray, source: np.ndarray, starts: np.ndarray,
         if np.abs(turns[s:s + n][after]).max() < BENT:
             continue
         bend = source[s + bent[0]]
-        out[s:s + n] = ((source[s:s + n] >= bend - BEND_AHEAD)
+        out[s:s + n] = ((source[s:s + n] >= bend - SHOWN_AHEAD)
                         & ((source[s:s + n] < bend) | (not UNTIL_BEND)))
     return out
+
+
+#: (trial) The stretch before the bend where a driving action is not shown while the input has
+#: not turned by :data:`UNTURNED`.
+SHOWN_AHEAD = 0.03
+UNTURNED = 0.25
+
+
+def unturned(wait: float, turn: float) -> bool:
+    """(trial) Whether an action followed at a state coded ``wait`` is not shown: the input's
+    turning ``turn`` is under :data:`UNTURNED` within :data:`SHOWN_AHEAD` before its bend."""
+    return wait > 0.0 and abs(turn) < UNTURNED
 
 
 def waits(wait: bool, turn: float) -> bool:

@@ -147,5 +147,4 @@ class Turning:
         c = int(g)
         # (a straight first stroke waits for the input's turn: bends.waits)
         return turn_fits(self._turn[max(lo, c - TURN_REACH):min(hi, c + TURN_REACH) + 1],
-                         self._turn_in, self.turn_limit) and not bends.waits(
-                             bool(self._bend_wait[c]), self._turn_in)
+                         self._turn_in, self.turn_limit)
