@@ -289,10 +289,10 @@ class Recognition:
             # ... and it is not shown valid while the input overruns its path (overrun.overruns;
             # the rules go on as if it were)
             overran = self._overruns(bi, g, x)
-            # (trial) nor shown just before a straight stroke's bend while the input goes on
+            # ... nor just before a straight first stroke's bend while the input goes on
             # straight (bends.unturned)
-            overran = overran or (self._turn is not None and bends.unturned(
-                float(self._bend_wait[int(g[bi])]), self._turn_in))
+            overran = overran or bends.unturned(float(self._before_bend[int(g[bi])]),
+                                                self._turn_in)
             self._crawl = crawl_run(self._crawl, bi == self._crawl_k, slow,
                                     hovers and self._drive_k != bi)
             self._crawl_k = bi

@@ -120,17 +120,18 @@ class Turning:
     its template's (:func:`turning`)."""
 
     def _setup_turning(self) -> None:
-        """Per state, its template's turning (:func:`turning`), for 2-D spatial inputs only."""
+        """Per state, its template's turning (:func:`turning`), for 2-D spatial inputs only, and
+        whether it lies just before a straight first stroke's bend (:mod:`~behaviors.mop.bends`:
+        measured whatever ``turn_limit``)."""
         self._turn_step = TURN_STEP * float(self._still_radius.min())
         b = self.bank
         self._turn = None
-        self._bend_wait = np.zeros(len(b.means))   # (bends.bend_waits)
-        if self.dim == 2 and self.invariance != "none" and (math.isfinite(self.turn_limit)
-                                                             or bends.BEND > 0):
+        self._before_bend = np.zeros(len(b.means))   # (bends.before_bends)
+        if self.dim == 2 and self.invariance != "none":
             path = [b.template(k) * b.scale[k] + b.center[k] for k in range(len(self.names))]
             self._turn = np.concatenate([turning(p, self._turn_step) for p in path])
-            self._bend_wait = bends.bend_waits(self._turn, b.source, b.starts, b.lengths,
-                                               np.concatenate(path))
+            self._before_bend = bends.before_bends(self._turn, b.source, b.starts, b.lengths,
+                                                   np.concatenate(path))
 
     def _turned(self, x: np.ndarray, bi: int, g: float) -> bool:
         """After sample ``x``: the input's turning since the gesture began, and whether it fits
@@ -145,6 +146,5 @@ class Turning:
         lo = int(self.bank.starts[bi])
         hi = lo + int(self.bank.lengths[bi]) - 1
         c = int(g)
-        # (a straight first stroke waits for the input's turn: bends.waits)
         return turn_fits(self._turn[max(lo, c - TURN_REACH):min(hi, c + TURN_REACH) + 1],
                          self._turn_in, self.turn_limit)
