@@ -64,7 +64,8 @@ them (one sample later, 0.196, is still within 20%, but it would take at most on
 diagonal's 14 valid samples of 93). The wait's cost is the eight's own recognition before its
 bend (six back to back 0.246 -> 0.284, the eight 0.244 -> 0.297), with held-out aspect 1.2
 0.427 -> 0.406, bent 10% 0.4704 -> 0.4696, held-out wrong valid over a pause 0 -> 0.005 (after
-a gesture mean 0.058 -> 0.030).
+a gesture mean 0.058 -> 0.030). What is kept instead: the eight is taken as before and only
+not shown in the last 0.03 before its bend while the input has not turned (:mod:`bends`).
 """
 
 from __future__ import annotations
