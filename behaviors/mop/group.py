@@ -285,6 +285,9 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._m_likely_v, self._lengths, self._tempo_x, self._tempo_g, self._tempo_s,
             f0.onset * f0.sigma,
             self._tc, self._mc, self._taken, shape_lead.TAKE_MISFIT2, self._end_history)
+        # not shown just before a straight stroke's bend while the input went on straight
+        # (bends.unturned: the rules went on as if it were)
+        self._m_flags[0] &= ~self._bend_hidden
         progress = self._k_progress
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays

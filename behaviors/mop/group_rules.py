@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import member_validity, members, tempo, threshold, under_way
+from behaviors.mop import bends, member_validity, members, tempo, threshold, under_way
 from behaviors.mop.group_layout import FLAGS, FLOATS
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
@@ -34,6 +34,8 @@ class GroupRules:
         self._turning = np.array([f._turn is not None for f in fs], dtype=bool)
         self._turns = np.concatenate([f._turn if f._turn is not None
                                       else np.zeros(len(f.bank.means)) for f in fs])
+        self._before_bend = np.concatenate([f._before_bend for f in fs])   # (bends.before_bends)
+        self._bend_hidden = np.zeros(m, dtype=bool)   # (bends.unturned)
         self._turn_steps = np.array([f._turn_step for f in fs], dtype=float)
         self._turn_limits = np.array([f.turn_limit for f in fs], dtype=float)
         self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
@@ -62,7 +64,8 @@ class GroupRules:
                 self._x, self._anchor, present, self._turning, self._turn_ref,
                 self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in, self._best,
                 self._bounds, self._ti, self.forward.mean, self._turns, self._turn_steps,
-                self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok)
+                self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok,
+                self._before_bend, bends.UNTURNED, self._bend_hidden)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

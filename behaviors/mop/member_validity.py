@@ -34,18 +34,21 @@ _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 
 
 @compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
-                   _F1, numba.intp, numba.float64, _B1), *_CALLS_INTO)
+                   _F1, numba.intp, numba.float64, _B1, _F1, numba.float64, _B1), *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
-           mean, turns, step, limit, reach, first_steps, ok) -> None:
+           mean, turns, step, limit, reach, first_steps, ok, before, unturned, hidden) -> None:
     """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
     (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
     ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
     its step length), and whether it is within ``limit`` (M,) radians of its best template's at the
     states within ``reach`` of the followed one (:func:`~behaviors.mop.turning.turn_fits`;
-    ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``. The same operations
-    in the same order as the follower's own."""
+    ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``; and whether its
+    best is not shown just before a straight stroke's bend (``before`` (S,), ``unturned``:
+    :func:`bends.unturned <behaviors.mop.bends.unturned>`), into ``hidden``. The same
+    operations in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi
     for i in range(x.shape[0]):
+        hidden[i] = False
         if not (turning[i] and present[i]):
             continue
         if not has_ref[i]:
@@ -66,6 +69,7 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
             least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
         ok[i] = least <= limit[i]
+        hidden[i] = before[off + c] > 0.0 and abs(turn[i]) < unturned
 
 
 @compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,

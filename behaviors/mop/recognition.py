@@ -90,6 +90,7 @@ import math
 
 import numpy as np
 
+from behaviors.mop import bends
 from behaviors.mop.blocked import (BLOCKED_SAMPLES, BLOCKED_SIZE, blocked_run, lead_of_size,
                                    likeliest_other)
 from behaviors.mop.forward import WindowedForward
@@ -288,6 +289,10 @@ class Recognition:
             # ... and it is not shown valid while the input overruns its path (overrun.overruns;
             # the rules go on as if it were)
             overran = self._overruns(bi, g, x)
+            # ... nor just before a straight first stroke's bend while the input goes on
+            # straight (bends.unturned)
+            overran = overran or bends.unturned(float(self._before_bend[int(g[bi])]),
+                                                self._turn_in)
             self._crawl = crawl_run(self._crawl, bi == self._crawl_k, slow,
                                     hovers and self._drive_k != bi)
             self._crawl_k = bi
