@@ -246,7 +246,7 @@ class StepDetail(StepSenses):
         # and 99
         others = self.obstacles
         if b.main_disc > 0.0:            # the personal space, or the least distance shown
-            others = [*others, (mx, my, b.main_disc)]
+            others = [(mx, my, b.main_disc), *others]
         if others:
             nx, ny = rx + sx, ry + sy
             if b.main_disc > 0.0:        # the main's way ahead (apart.out_of_way)
