@@ -235,10 +235,17 @@ class StepDetail(StepSenses):
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
-        # the others' discs, then the main's personal space (Behavior.personal_space): the
-        # lover's contact met on all 21 unseen paths of seeds 0-5 and 7 instead of 7 (fast and
-        # loops paths 0.03-0.20 -> 0.000-0.004 against 0.008); bench/fidelity.py --seeds
-        # 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1), held-out seed 7: 104 -> 107
+        # the main's personal space (Behavior.personal_space), then the others' discs, which
+        # win where both cannot hold (keep_apart's last pass; the step cap after both). Two
+        # reactors of one main (0.08 m bodies; unseen closed-loop scenes 0.6 x 0.4 to 3.0 x
+        # 0.5 m, 30-60 Hz, five characters x 36 seeds) squeezed with its disc into an edge or
+        # corner, seeds 12-47 / 48-83: least gap over the size 0.52 / 0.30 -> 0.85 / 0.86,
+        # frames under 0.9 of it 0.00072 / 0.00067 -> 0.00001 / 0.00001; three, 48-83 /
+        # 84-119: 0.00018 / 0.00051 -> 0 / 0.00001. Its cost: steps inside the main's disc
+        # 0.0628 / 0.0628 -> 0.0613 / 0.0634 (two), 0.0581 / 0.0586 -> 0.0581 / 0.0595 (three).
+        # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
+        # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
+        # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1), held-out seed 7: 104 -> 107
         # (lover +2, afraid +1); the other characters unchanged. Kept for every character
         # (the 1st percentile of the bully, stalker and playful friend, 0.05-0.06 m, is a
         # touch): 611 and 105, the bully and the playful friend -6 and -7 (their re-matching
