@@ -315,8 +315,8 @@ class Reactor(GenerationStep):
 
     def _obstacle_array(self) -> np.ndarray:
         """The obstacles as rows (k, 3) (x, y, least distance m): a view of a buffer kept
-        between calls, with a row spare after them for the main's personal space
-        (_step_compiled), before them. Made afresh (np.array of the list, then np.vstack with the personal
+        between calls, with a row spare before them for the main's personal space
+        (_step_compiled). Made afresh (np.array of the list, then np.vstack with the personal
         space) they were two to three allocations a step and a call of the plugin's."""
         k = len(self.obstacles)
         if not k:

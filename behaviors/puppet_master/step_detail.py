@@ -245,8 +245,8 @@ class StepDetail(StepSenses):
         # 0.0628 / 0.0628 -> 0.0613 / 0.0634 (two), 0.0581 / 0.0586 -> 0.0581 / 0.0595 (three).
         # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
         # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
-        # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1), held-out seed 7: 104 -> 107
-        # (lover +2, afraid +1); the other characters unchanged. Kept for every character
+        # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1),
+        # held-out seed 7: 104 -> 107 (lover +2, afraid +1); the other characters unchanged. Kept for every character
         # (the 1st percentile of the bully, stalker and playful friend, 0.05-0.06 m, is a
         # touch): 611 and 105, the bully and the playful friend -6 and -7 (their re-matching
         # moved; contact lost on 5 paths); at the 0.5th percentile for every character: 603
