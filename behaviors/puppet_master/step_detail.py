@@ -246,11 +246,11 @@ class StepDetail(StepSenses):
         # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
         # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
         # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1),
-        # held-out seed 7: 104 -> 107 (lover +2, afraid +1); the other characters unchanged. Kept for every character
-        # (the 1st percentile of the bully, stalker and playful friend, 0.05-0.06 m, is a
-        # touch): 611 and 105, the bully and the playful friend -6 and -7 (their re-matching
-        # moved; contact lost on 5 paths); at the 0.5th percentile for every character: 603
-        # and 99
+        # held-out seed 7: 104 -> 107 (lover +2, afraid +1); the other characters unchanged.
+        # Kept for every character (the 1st percentile of the bully, stalker and playful
+        # friend, 0.05-0.06 m, is a touch): 611 and 105, the bully and the playful friend -6
+        # and -7 (their re-matching moved; contact lost on 5 paths); at the 0.5th percentile
+        # for every character: 603 and 99
         others = self.obstacles
         if b.main_disc > 0.0:            # the personal space, or the least distance shown
             others = [(mx, my, b.main_disc), *others]
