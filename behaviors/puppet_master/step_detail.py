@@ -243,6 +243,13 @@ class StepDetail(StepSenses):
         # frames under 0.9 of it 0.00072 / 0.00067 -> 0.00001 / 0.00001; three, 48-83 /
         # 84-119: 0.00018 / 0.00051 -> 0 / 0.00001. Its cost: steps inside the main's disc
         # 0.0628 / 0.0628 -> 0.0613 / 0.0634 (two), 0.0581 / 0.0586 -> 0.0581 / 0.0595 (three).
+        # Not used: a position the bodies still held in the main's disc pushed out of it and
+        # into them by up to 5% of their size (two, 12-47: inside 0.0613 -> 0.0607, least over
+        # the disc 0.001 -> 0.003; three, 48-83: least gap 0.943 -> 0.894, least over the disc
+        # 0.027 -> 0.021). Nor, for the playful friend pinned on the main's disc, a position
+        # in the disc of a main stepping toward it carried on by the main's whole step
+        # (contacts over the demonstration's longest, 0.35 s, seeds 12-23: fast paths 24% ->
+        # 21%, loops 17% -> 23%; its designer 13% / 12%).
         # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
         # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
         # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1),
