@@ -304,7 +304,8 @@ class Reactor(GenerationStep):
             # back along the latest step (f in [-1, 0)): the step kept apart from the
             # obstacles; the way between must too (that push capped at the largest step:
             # three afraid ones of one main, seeds 84-119, least gap over the size 0.14 ->
-            # 0.46 but frames under 0.9 of it 0.00003 -> 0.00024; not used)
+            # 0.46 but frames under 0.9 of it 0.00003 -> 0.00024; the step's own pose shown
+            # where the push exceeds it: 0.11, 0.00062; not used)
             f = max(lag, 0.0) / self.dt - 1.0
             if rows is not None:
                 x, y = sk.moved_on(x, y, *self._last_step, f, rows, self._cs)
