@@ -249,7 +249,9 @@ class StepDetail(StepSenses):
         # 0.027 -> 0.021). Nor, for the playful friend pinned on the main's disc, a position
         # in the disc of a main stepping toward it carried on by the main's whole step
         # (contacts over the demonstration's longest, 0.35 s, seeds 12-23: fast paths 24% ->
-        # 21%, loops 17% -> 23%; its designer 13% / 12%).
+        # 21%, loops 17% -> 23%; its designer 13% / 12%). Nor a capped step that ends in a
+        # disc turned by up to +-90 degrees to end out of all (inside the main's disc, two
+        # 12-47 0.0613 -> 0.0628, three 84-119 0.0595 -> 0.0614).
         # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
         # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
         # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1),
