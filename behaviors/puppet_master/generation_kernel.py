@@ -257,18 +257,30 @@ def along_edge(x: float, y: float, ox: float, oy: float, least: float,
     return x, y
 
 
-@compiled(_P2(_f8, _f8, _f8, _F1), step_math)
-def _free_axis(x: float, y: float, least: float, c: np.ndarray) -> tuple[float, float]:
+@compiled(_P2(_f8, _f8, _f8, _F1, _F2), step_math)
+def _free_axis(x: float, y: float, least: float, c: np.ndarray,
+               others: np.ndarray) -> tuple[float, float]:
     """apart._free_axis (table from the constants)."""
     bx, by, most = 1.0, 0.0, -math.inf
+    rx, ry = math.nan, 0.0
     for k in range(4):
         ux = 1.0 if k == 0 else (-1.0 if k == 1 else 0.0)
         uy = 1.0 if k == 2 else (-1.0 if k == 3 else 0.0)
         reach = table_reach(x, y, ux, uy, c)
         if reach >= least:
-            return ux, uy
+            px, py = x + ux * least, y + uy * least
+            clear = True
+            for m in range(others.shape[0]):
+                if hypot(px - others[m, 0], py - others[m, 1]) < others[m, 2] - 1e-9:
+                    clear = False
+            if clear:
+                return ux, uy
+            if rx != rx:
+                rx, ry = ux, uy
         if reach > most:
             bx, by, most = ux, uy, reach
+    if rx == rx:
+        return rx, ry
     return bx, by
 
 
@@ -283,7 +295,7 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
             d = hypot(dx, dy)
             if d < least:
                 if d < 1e-9:
-                    dx, dy = _free_axis(ox, oy, least, c)
+                    dx, dy = _free_axis(ox, oy, least, c, others)
                     push, d = _min(least, table_reach(ox, oy, dx, dy, c)), 1.0
                 else:
                     push = _max(d, _min(least, table_reach(ox, oy, dx / d, dy / d, c)))

@@ -235,18 +235,34 @@ class StepDetail(StepSenses):
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
-        # the others' discs, then the main's personal space (Behavior.personal_space): the
-        # lover's contact met on all 21 unseen paths of seeds 0-5 and 7 instead of 7 (fast and
-        # loops paths 0.03-0.20 -> 0.000-0.004 against 0.008); bench/fidelity.py --seeds
-        # 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1), held-out seed 7: 104 -> 107
-        # (lover +2, afraid +1); the other characters unchanged. Kept for every character
-        # (the 1st percentile of the bully, stalker and playful friend, 0.05-0.06 m, is a
-        # touch): 611 and 105, the bully and the playful friend -6 and -7 (their re-matching
-        # moved; contact lost on 5 paths); at the 0.5th percentile for every character: 603
-        # and 99
+        # the main's personal space (Behavior.personal_space), then the others' discs, which
+        # win where both cannot hold (keep_apart's last pass; the step cap after both). Two
+        # reactors of one main (0.08 m bodies; unseen closed-loop scenes 0.6 x 0.4 to 3.0 x
+        # 0.5 m, 30-60 Hz, five characters x 36 seeds) squeezed with its disc into an edge or
+        # corner, seeds 12-47 / 48-83: least gap over the size 0.52 / 0.30 -> 0.85 / 0.86,
+        # frames under 0.9 of it 0.00072 / 0.00067 -> 0.00001 / 0.00001; three, 48-83 /
+        # 84-119: 0.00018 / 0.00051 -> 0 / 0.00001. Its cost: steps inside the main's disc
+        # 0.0628 / 0.0628 -> 0.0613 / 0.0634 (two), 0.0581 / 0.0586 -> 0.0581 / 0.0595 (three).
+        # Not used: a position the bodies still held in the main's disc pushed out of it and
+        # into them by up to 5% of their size (two, 12-47: inside 0.0613 -> 0.0607, least over
+        # the disc 0.001 -> 0.003; three, 48-83: least gap 0.943 -> 0.894, least over the disc
+        # 0.027 -> 0.021). Nor, for the playful friend pinned on the main's disc, a position
+        # in the disc of a main stepping toward it carried on by the main's whole step
+        # (contacts over the demonstration's longest, 0.35 s, seeds 12-23: fast paths 24% ->
+        # 21%, loops 17% -> 23%; its designer 13% / 12%). Nor a capped step that ends in a
+        # disc turned by up to +-90 degrees to end out of all (inside the main's disc, two
+        # 12-47 0.0613 -> 0.0628, three 84-119 0.0595 -> 0.0614).
+        # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
+        # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
+        # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1),
+        # held-out seed 7: 104 -> 107 (lover +2, afraid +1); the other characters unchanged.
+        # Kept for every character (the 1st percentile of the bully, stalker and playful
+        # friend, 0.05-0.06 m, is a touch): 611 and 105, the bully and the playful friend -6
+        # and -7 (their re-matching moved; contact lost on 5 paths); at the 0.5th percentile
+        # for every character: 603 and 99
         others = self.obstacles
         if b.main_disc > 0.0:            # the personal space, or the least distance shown
-            others = [*others, (mx, my, b.main_disc)]
+            others = [(mx, my, b.main_disc), *others]
         if others:
             nx, ny = rx + sx, ry + sy
             if b.main_disc > 0.0:        # the main's way ahead (apart.out_of_way)
