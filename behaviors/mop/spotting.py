@@ -201,6 +201,9 @@ SHARE_SKIP = 3
 #: A template whose followed progress fell this far below its highest since the gesture began
 #: is going back: no start read forwards, so it keeps no other action from driving.
 SHARE_BACK = 0.03
+#: A gesture never recognised ends where its likeliest template, not refused, is followed to
+#: ``end``: a new attempt starts there, the next gesture followed afresh.
+UNSEEN_END = True
 
 
 class GestureSpotting(GestureEnd):
@@ -299,6 +302,10 @@ class GestureSpotting(GestureEnd):
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)
             self._ended = bi
+        elif (UNSEEN_END and self._end_x is None and not valid and not self._refused[bi]
+              and progress >= self.end):
+            # never recognised, its likeliest template followed to its end: it ended here
+            self._restart_here(x, forward, offset)
         elif self._lost >= self.lost_samples:
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
             came = x - self._anchor   # (the anchor is set at the first sample: _inputs)
