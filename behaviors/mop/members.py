@@ -424,7 +424,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 spread[c] = scale[gb, c] * sk
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
-                              any_engaged[i], UNSEEN_END and not val
-                              and not refused[gb] and pb >= m[8])
+                              any_engaged[i], UNSEEN_END and drive_k[i] < 0
+                              and not val and not refused[gb] and pb >= m[8])
     member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
     member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)

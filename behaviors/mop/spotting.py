@@ -302,8 +302,8 @@ class GestureSpotting(GestureEnd):
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)
             self._ended = bi
-        elif (UNSEEN_END and self._end_x is None and not valid and not self._refused[bi]
-              and progress >= self.end):
+        elif (UNSEEN_END and self._end_x is None and self._drive_k < 0 and not valid
+              and not self._refused[bi] and progress >= self.end):
             # never recognised, its likeliest template followed to its end: it ended here
             self._restart_here(x, forward, offset)
         elif self._lost >= self.lost_samples:
