@@ -28,7 +28,7 @@ from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMP
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
-from behaviors.mop.spotting import SHARE_BACK, UNSEEN_END
+from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
                                     REST_BEHIND, TAKEN_PERFORMED)
@@ -45,9 +45,8 @@ _BB2 = numba.boolean[:, ::1]
 
 #: How a member's new attempt starts (:meth:`GestureSpotting._spot`): none; its gesture ended
 #: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
-#: every template was refused too long; the input is still and waiting (anchored at its mean);
-#: the likeliest template, never valid, was followed to its end (:data:`spotting.UNSEEN_END`).
-GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING, UNSEEN = range(6)
+#: every template was refused too long; the input is still and waiting (anchored at its mean).
+GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING = range(5)
 #: Per-member scalars (columns of ``mk`` (M, 14 + 2D), then the rows ``radius`` and ``units``).
 MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep",
                 "hint_onset", "end", "null2", "depart2", "lost_after", "dims", "memory")
@@ -125,19 +124,15 @@ def committed(shape: np.ndarray, lags: np.ndarray, flags: np.ndarray, a0: int, a
 
 @compiled(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
                    numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
-                   numba.boolean, numba.boolean), *_CALLS_INTO)
+                   numba.boolean), *_CALLS_INTO)
 def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, gone: bool,
-         valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool,
-         unseen: bool) -> int:
+         valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool) -> int:
     """:meth:`GestureSpotting._spot`'s choice (after ``_end_x`` was set this sample): one of
-    :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`,
-    :data:`UNSEEN` (``unseen``: the likeliest template, not refused nor valid, at its end)."""
+    :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`."""
     if has_end and (still_ or step_d2 > null2 or not ok or gone):
         return AFTER_END
     if valid and still_ and progress >= 0.9:
         return RESTING
-    if unseen and not has_end:
-        return UNSEEN
     if lost >= lost_samples:
         return ABANDONED
     if still_ and not engaged:
@@ -424,7 +419,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 spread[c] = scale[gb, c] * sk
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
-                              any_engaged[i], UNSEEN_END and drive_k[i] < 0
-                              and not val and not refused[gb] and pb >= m[8])
+                              any_engaged[i])
     member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
     member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)
