@@ -81,6 +81,26 @@ into the next gesture, 0.02-0.13 of it) stepped again through the new attempt (u
 0.344 unchanged, tuned the kick ankle 0.392 -> 0.357, the spin ankle 0.398 -> 0.336, the line
 0.427 -> 0.449, held-out the wave 0.269 -> 0.379, longest wrong run 2 / 4 -> 2 / 6.
 
+A gesture never recognised leaves no end: no new attempt begins and the next gesture is followed
+on the old sums (held-out twenty back to back, seeds 101-112: 14 gestures begun after one never
+recognised, their attempt open 1-124 ticks before them, 11 of them never recognised; seed 109's
+punch, never valid, followed to 0.99 of it, drove 4 ticks of the getup after it). Measured and
+not kept: a new attempt where the likeliest template, neither refused nor valid, with nothing
+driven since the attempt began, is followed to ``end`` (follower and group). ``bench/
+follow_seeds.py --sections=sized,unrelated,sequences`` 101-112: twenty within 20% 104 0.313 ->
+0.344, 107 0.281 -> 0.313, 109 0.188 -> 0.219 (the getup recognised at 0.18), longest wrong run
+109 4 -> 3 (after one never recognised: 4 never recognised of 12), all else unchanged; but
+``bench/follow_quality.py`` sized at 0.6 / 1.5x recognised 0.975 -> 0.950 (a roll wrist at 0.6x
+is followed to its end before it is valid), progress RMSE p90 0.078 -> 0.088. With the ended
+template shown at its end after it (as after a recognised end) and the attempt begun only once
+the input rests or moves on (as after a recognised end, ``not ok`` or a step off the null
+model): sized unchanged and 104/107/109 as above, but held-out bent 10% progress RMSE median
+0.0405 -> 0.0411 (a spin wrist never valid, bent, followed to its end before the performer's:
+0.029 -> 0.107). Without ``not ok`` 109 is lost again. Not tried: begin the attempt only once
+the input leaves the point where the template was followed to its end (a pending end of its own).
+Not kept either: the same end where another template drove earlier in the attempt (a sized walk at
+0.7x, valid, lost, valid at its last sample again, lost that sample: 104 0.9028 -> 0.9025).
+
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
 figures are in :mod:`behaviors.mop.sharing`.
