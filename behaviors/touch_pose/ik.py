@@ -143,6 +143,15 @@ class CCD:
                        for p, g in goals.items() if p in self._part_index)
         return retry if miss(again) < miss(parts) else out
 
+    def _within_limit(self, q: tuple, j: int) -> tuple:
+        """The local rotation ``q`` (w, x, y, z) of joint ``j``, its turn cut to the joint's limit
+        (radians) about the same axis."""
+        if 2.0 * math.acos(min(1.0, abs(q[0]))) <= self._limit[j]:
+            return q
+        n = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+        k = (1.0 if q[0] >= 0 else -1.0) * self._sin_half[j] / n
+        return (self._cos_half[j], q[1] * k, q[2] * k, q[3] * k)
+
     def _bend(self, foot: str, goal: np.ndarray, local: list, p0: tuple) -> None:
         """Bend ``foot``'s knee (in place on ``local``) so the foot lies as far from the hip as
         ``goal`` (bisection between the straight leg and the knee's limit). CCD cannot: with the
@@ -181,12 +190,7 @@ class CCD:
         if s < 1e-9 or ang < 1e-6:
             return
         la = _qrot((q0[0], -q0[1], -q0[2], -q0[3]), tuple((c / s).tolist()))
-        q = _qmul(_qaxis(la, ang), local[hip])
-        if 2.0 * math.acos(min(1.0, abs(q[0]))) > self._limit[hip]:
-            n = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-            k = (1.0 if q[0] >= 0 else -1.0) * self._sin_half[hip] / n
-            q = (self._cos_half[hip], q[1] * k, q[2] * k, q[3] * k)
-        local[hip] = q
+        local[hip] = self._within_limit(_qmul(_qaxis(la, ang), local[hip]), hip)
 
     def _solve(self, pose: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
         out = pose.copy()
@@ -295,12 +299,7 @@ class CCD:
                 if s < 1e-9 or ang < 1e-6:
                     continue
                 la = _qrot((qp[0], -qp[1], -qp[2], -qp[3]), (cx / s, cy / s, cz / s))
-                q = _qmul(_qaxis(la, ang), local[j])
-                if 2.0 * math.acos(min(1.0, abs(q[0]))) > self._limit[j]:
-                    n = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-                    k = (1.0 if q[0] >= 0 else -1.0) * self._sin_half[j] / n
-                    q = (self._cos_half[j], q[1] * k, q[2] * k, q[3] * k)
-                local[j] = q
+                local[j] = self._within_limit(_qmul(_qaxis(la, ang), local[j]), j)
             # forward kinematics below j along the path, then the part
             pq = qw[k0 - 1] if k0 > 0 else q0
             pp = pw[k0 - 1] if k0 > 0 else p0
