@@ -300,10 +300,17 @@ class Refusal:
             # (coverage.told_apart_arc: the sizes shared starts try, the misfit's accept limit)
             lo, hi = self.scale_range
             sizes = np.geomspace(lo / hi, hi / lo, SHARE_SIZES)
-            told = coverage.told_apart_arc(np.ascontiguousarray(self._rel * self._units),
-                                           b.starts, b.lengths, self._arc, b.scale, sizes,
+            rel = np.ascontiguousarray(self._rel * self._units)
+            told = coverage.told_apart_arc(rel, b.starts, b.lengths, self._arc, b.scale, sizes,
                                            self.shape_accept * self.sigma)
-            np.minimum(self._arc_need, told, out=self._arc_need)
+            # ... or where the ideal observer tells it apart, though never on the template's
+            # own straight start (coverage.OBSERVER, straight_start_arc)
+            seen = np.maximum(
+                coverage.told_apart_arc(rel, b.starts, b.lengths, self._arc,
+                                        np.ones_like(b.scale), sizes, coverage.OBSERVER),
+                coverage.straight_start_arc(rel, b.starts, b.lengths, self._arc,
+                                            coverage.OBSERVER))
+            np.minimum(self._arc_need, np.minimum(told, seen), out=self._arc_need)
         self._misfit_decay = 1.0 - 1.0 / self.shape_memory
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2

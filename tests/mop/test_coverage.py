@@ -12,7 +12,7 @@ from behaviors.mop import coverage
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
 from bench.follow_quality import puck_follower, run
-from bench.motions import gesture_templates, performance, unrelated_motions
+from bench.motions import gesture_templates, mocap_templates, performance, unrelated_motions
 from tabletop.cli import main as cli
 from tabletop.plugins.mop_table import EXAMPLES
 
@@ -135,3 +135,49 @@ def test_a_group_covers_a_start_sooner_as_its_followers_alone():
     alone = [puck_follower(six) for _ in streams]
     group = FollowerGroup([puck_follower(six) for _ in streams])
     assert _step_both(alone, group, streams) > 20
+
+
+def test_a_straight_start_lasts_until_the_path_leaves_its_chord():
+    # 0.1 m straight along x in 1 cm steps, then a quarter turn of 5 cm radius: the path leaves
+    # its chord by 2 mm a few samples into the turn; a straight line never does
+    line = np.c_[np.linspace(0.0, 0.1, 11), np.zeros(11)]
+    a = np.linspace(0.0, np.pi / 2, 16)[1:]
+    turn = np.c_[0.1 + 0.05 * np.sin(a), 0.05 * (1.0 - np.cos(a))]
+    rel = np.vstack([line, turn, line])
+    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(rel, axis=0), axis=1))]
+    arc[26:] = arc[26:] - arc[26]
+    got = coverage.straight_start_arc(rel, np.array([0, 26]), np.array([26, 11]), arc,
+                                      coverage.OBSERVER)
+    assert 0.1 < got[0] < 0.13, got
+    assert got[1] == pytest.approx(0.1)
+
+
+def _recognised(templates: dict, name: str) -> list[float]:
+    """``name``'s progress at its first tick valid and best (1 when never), performed from rest
+    at 0.8, 1 and 1.2x, three draws each, with ``templates`` loaded as a puck's."""
+    f, rng, out = puck_follower(templates), np.random.default_rng(0), []
+    for scale in (0.8, 1.0, 1.2) * 3:
+        x, prog = performance(rng, templates[name], scale)
+        f.reset()
+        got = [p for s, p in zip((f.step(v) for v in x), prog[:, 0])
+               if s.valid and s.best == name]
+        out.append(float(got[0]) if got else 1.0)
+    return out
+
+
+def test_a_start_the_ideal_observer_tells_apart_is_covered_sooner(monkeypatch):
+    # among all twenty templates the ideal observer (2 mm) tells nine clips' starts apart from
+    # every other's sooner than the misfit's bound, never before the clip's own path leaves its
+    # chord; the six gestures keep theirs. The backflip wrist is recognised at 0.10-0.15 of it
+    # (median 0.114) against 0.14-0.18 (median 0.152) without the observer
+    twenty = {**gesture_templates(), **mocap_templates()}
+    f = puck_follower(twenty)
+    early = _recognised(twenty, "backflip_right_wrist")
+    monkeypatch.setattr(coverage, "OBSERVER", np.inf)
+    g = puck_follower(twenty)
+    lowered = [n for n in f.names if _need(f, n) < _need(g, n) - 1e-9]
+    assert len(lowered) >= 7 and "backflip_right_wrist" in lowered, lowered
+    assert all(_need(f, n) <= _need(g, n) + 1e-12 for n in f.names)
+    assert all(_need(f, n) == _need(g, n) for n in NAMES)
+    late = _recognised(twenty, "backflip_right_wrist")
+    assert np.median(early) < 0.13 < 0.14 < np.median(late), (early, late)
