@@ -13,10 +13,10 @@ from tests.mop.helpers import widened_mirrored
 def test_a_mirrored_path_restarted_part_way_stays_refused(monkeypatch):
     # among the twenty templates, the spin ankle mirrored (bench/follow_widened.py, seed 203 at
     # 1.4x, 201 at 1x): the backflip wrist, followed back over itself, ends about 60% along and
-    # a new attempt starts there; the walk ankle then drove 0.228 and 0.124 of the time with
-    # the threshold model afresh (its lead of 73 nats at 203 gone); measured 0 and 0 with the
-    # lead carried. The spin ankle itself still drives: valid after 30% 0.87-1.0 (the same
-    # either way)
+    # a new attempt starts there; the walk ankle then drove 0.219 and 0.091 of the time with
+    # the threshold model afresh (its lead of 73 nats at 203 gone; 0.228 and 0.124 before the
+    # ideal observer's coverage, coverage.OBSERVER); measured 0 and 0 with the lead carried.
+    # The spin ankle itself still drives: valid after 30% 0.87-1.0 (the same either way)
     templates = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
     f = puck_follower(templates)
     for seed, scale in ((203, 1.4), (201, 1.0)):
@@ -25,7 +25,7 @@ def test_a_mirrored_path_restarted_part_way_stays_refused(monkeypatch):
     monkeypatch.setattr(threshold, "CARRY_LEAD", False)   # the threshold model afresh
     for seed, scale in ((203, 1.4), (201, 1.0)):
         x = widened_mirrored(seed, "spin_right_ankle", scale)
-        assert np.mean([s.valid for s in run(f, x)]) > 0.1, seed
+        assert np.mean([s.valid for s in run(f, x)]) > 0.08, seed
     monkeypatch.undo()
     rng = np.random.default_rng(1)
     for s in (0.7, 1.0, 1.4):
