@@ -286,6 +286,10 @@ class SyntheticCamera:
         n = tex.shape[0]
         quad = np.array([[0, 0, 1], [n, 0, 1], [n, n, 1], [0, n, 1]], float) @ M.T
         quad = quad[:, :2] / quad[:, 2:3]
+        # Motion blur follows the puck's travel only; its turn during the shutter is not drawn.
+        # With the turn drawn (the mean of 9 renders across the shutter), pucks turning 1-4 times
+        # a second at 8 ms are still read on every frame at 30 and 60 Hz (raw heading p95 under
+        # 0.6 deg); at 20 ms and 30 Hz, 3 turns a second loses 9 of 180 reads, 4 turns 129.
         blur_px = np.zeros(2)
         if vel is not None and self.s.exposure_s > 0:
             blur_px = (H[:2, :2] @ np.asarray(vel, float)) * self.s.exposure_s  # approx pixels
