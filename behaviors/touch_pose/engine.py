@@ -34,6 +34,7 @@ import numpy as np
 
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel
 from behaviors.touch_pose.action_control import ActionControl, Handover
+from behaviors.touch_pose.edge import SAMPLES, EdgeLift, need
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, qrot
 from behaviors.touch_pose.ik import CCD, limit_goal
@@ -110,6 +111,7 @@ class TouchPose(ActionControl):
         self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
         # the ended action's last target, it moved to the base, and the faded-in part (0-1)
         self.handover: Handover | None = None
+        self.edge = EdgeLift()   # the drawing's table-y offset near the top or bottom edge
 
     # --- actions -------------------------------------------------------------------------------
 
@@ -201,6 +203,7 @@ class TouchPose(ActionControl):
             self._action(dt)
         self.target = self._on_table(self.target)
         self.track(dt)
+        self.edge.lift = self._edge_lift(t)
         return self.frame(t) if record else None
 
     def track(self, dt: float) -> None:
@@ -231,8 +234,64 @@ class TouchPose(ActionControl):
 
     def table_points(self) -> np.ndarray:
         """The output posture's joints and parts projected on the table (19, 2; metres), in
-        the order :attr:`Humanoid.bones` indexes."""
-        return self.camera.table(self._points(self.output))
+        the order :attr:`Humanoid.bones` indexes, drawn offset near the table's edge."""
+        return self._drawn(self._points(self.output))
+
+    def _drawn(self, points: np.ndarray) -> np.ndarray:
+        """Table points (m) of model ``points`` as drawn: with the edge offset (table y)."""
+        xy = self.camera.table(points)
+        if self.edge.lift != 0.0:
+            xy = xy + np.array([0.0, self.edge.lift])
+        return xy
+
+    def _edge_lift(self, t: float) -> float:
+        """The drawing's table-y offset (m) at time ``t``: the running action's plan (made
+        at its first frame), eased out after it; any part still beyond the table's y extent
+        (tracking lag, physical sway) brought onto it."""
+        edge = self.edge
+        if self.mode == "action" and self.clock is not None:
+            if edge.clock is not self.clock:
+                edge.plan(self.clock, self._clip_needs(), self.clock.action.duration,
+                          self.clock.u)
+            lift = edge.during(self.clock.u, self.clock.heading)
+        else:
+            if edge.lift == 0.0 and not self._rest_need():
+                return 0.0
+            lift = edge.after(t, self._rest_need())
+        y = self.camera.table(self._points(self.output))[:, 1] + lift
+        lo, hi = float(y.min()), float(y.max())
+        if hi - lo <= self.table[1]:
+            lift += max(0.0, -lo) - max(0.0, hi - self.table[1])
+        return lift
+
+    def _rest_need(self) -> float:
+        """The drawing offset (m, table y) the posture left by the last action needs where it
+        rests (a punch seen from 90,15 travels in depth: it ends 0.03 m higher on the table),
+        kept after the handover until the next action."""
+        if self.handover is not None and self.edge.rest_of is not self.handover.at_base:
+            y = self.camera.table(self.body.points(self.handover.at_base))[:, 1]
+            self.edge.rest_of = self.handover.at_base
+            self.edge.rest = need(y, self.table[1], TABLE_MARGIN)
+        return self.edge.rest
+
+    def _clip_needs(self) -> np.ndarray:
+        """The running action's drawing offsets (m, table y) at ``edge.SAMPLES`` times: its
+        postures with the weights of its first synthesis, placed where it started, their lowest
+        and highest drawn points moved by the output's own against the clip's at the time it
+        started (the clip alone: a spin kick from 30,20 near the top drew 0.09 m too low)."""
+        a = self.clock.action
+        last = self.action_blend[1] if self.action_blend and self.action_blend[0] is a else None
+        base, yaw = self.action_base
+
+        def extent(u: float) -> np.ndarray:
+            pose = place(a.model.at_time(last, u).pose, base, yaw)
+            y = self.camera.table(self.body.points(pose))[:, 1]
+            return np.array([y.min(), y.max()])
+
+        now = self.camera.table(self._points(self.output))[:, 1]
+        moved = np.array([now.min(), now.max()]) - extent(self.clock.u)
+        return np.array([need(extent(u) + moved, self.table[1], TABLE_MARGIN)
+                         for u in self.edge.u])
 
     def head_facing(self) -> tuple[float, float, float]:
         """Where the output posture's head turns (its forward, the model's x, about the
@@ -258,7 +317,7 @@ class TouchPose(ActionControl):
         return {"t": round(float(t), 6), "mode": self.mode,
                 "action": self.clock.action.name if u is not None else None,
                 "action_time": None if u is None else round(u * self.clock.action.duration, 5),
-                "parts": dict(zip(PARTS, np.round(self.camera.table(parts), 5).tolist())),
+                "parts": dict(zip(PARTS, np.round(self._drawn(parts), 5).tolist())),
                 "joints": dict(zip(names, np.round(world, 5).tolist())),
                 "touches": {str(i): f.part for i, f in sorted(self.fingers.items())}}
 
@@ -266,7 +325,7 @@ class TouchPose(ActionControl):
         for i in [i for i in self.fingers if i not in touches]:
             del self.fingers[i]
         free_before = {i: f.table.copy() for i, f in self.fingers.items() if f.part is None}
-        parts = self.camera.table(self._points(self.output)[self._np:])
+        parts = self._drawn(self._points(self.output)[self._np:])
         taken = False
         for i, (x, y) in touches.items():
             xy = np.array([float(x), float(y)])
