@@ -45,20 +45,22 @@ class EdgeLift:
         self.needs = np.zeros(SAMPLES)
         self.width_u = 1.0                      # EASE_S as generalised time
         self.seen = (0.0, 0.0)                  # generalised times the action ran through
+        self.t0 = 0.0                           # seconds when it started
         self.lift = 0.0                         # the offset drawn now
         self.ended: tuple[float, float] | None = None   # (t, offset) when the action ended
         self.rest = 0.0                  # the need (m) of the posture the last action left
         self.rest_of: object | None = None   # that posture
 
-    def plan(self, clock: object, needs: np.ndarray, duration: float, u: float) -> None:
+    def plan(self, clock: object, needs: np.ndarray, duration: float, u: float,
+             t: float) -> None:
         """Needs (m) at :attr:`u` of the action ``clock`` runs, ``duration`` seconds long,
-        started at generalised time ``u``."""
-        self.clock, self.needs = clock, np.asarray(needs, float)
+        started at generalised time ``u``, time ``t`` (s)."""
+        self.clock, self.needs, self.t0 = clock, np.asarray(needs, float), t
         self.width_u = EASE_S / max(duration, 1e-6)
         self.seen = (u, u)
         self.ended, self.rest, self.rest_of = None, 0.0, None
 
-    def during(self, u: float, heading: int) -> float:
+    def during(self, u: float, heading: int, t: float) -> float:
         """The eased offset at generalised time ``u`` running the ``heading`` way (+1 or -1):
         each sample's need, of the times run through or lying ahead, weighed down with its time
         distance (smoothstep over ``EASE_S``), the largest up and down taken. (Times behind the
@@ -68,7 +70,8 @@ class EdgeLift:
         ahead = self.u > u if heading > 0 else self.u < u
         used = ahead | ((self.u >= self.seen[0]) & (self.u <= self.seen[1]))
         w = smooth(1.0 - np.abs(self.u - u) / self.width_u) * np.where(used, self.needs, 0.0)
-        return float(w.max(initial=0.0) + w.min(initial=0.0))
+        ease = float(smooth((t - self.t0) / EASE_S))
+        return ease * float(w.max(initial=0.0) + w.min(initial=0.0))
 
     def after(self, t: float, rest: float) -> float:
         """The offset at time ``t`` (s) eased out from where the last action left it to

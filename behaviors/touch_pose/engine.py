@@ -252,8 +252,8 @@ class TouchPose(ActionControl):
         if self.mode == "action" and self.clock is not None:
             if edge.clock is not self.clock:
                 edge.plan(self.clock, self._clip_needs(), self.clock.action.duration,
-                          self.clock.u)
-            lift = edge.during(self.clock.u, self.clock.heading)
+                          self.clock.u, t)
+            lift = edge.during(self.clock.u, self.clock.heading, t)
         else:
             if edge.lift == 0.0 and not self._rest_need():
                 return 0.0
