@@ -74,10 +74,10 @@ class EdgeLift:
         return ease * float(w.max(initial=0.0) + w.min(initial=0.0))
 
     def after(self, t: float, rest: float) -> float:
-        """The offset at time ``t`` (s) eased out from where the last action left it to
-        ``rest`` (m), the need of the figure standing where the action ended."""
+        """The offset at time ``t`` (s) eased from where the last action left it to ``rest``
+        (m), the need of the posture the action left where it rests. (Taken at once, a jump
+        seen from 250,25 near the top moved every part 0.034 m in one frame as it ended.)"""
         if self.ended is None:
             self.ended = (t, self.lift)
         t0, lift = self.ended
-        eased = lift * float(smooth(1.0 - (t - t0) / EASE_S))
-        return max(eased, rest, 0.0) + min(eased, rest, 0.0)
+        return float(lift + (rest - lift) * smooth((t - t0) / EASE_S))
