@@ -60,6 +60,10 @@ TABLE_MARGIN = 0.02
 #: punch from 90,15 near the top 0.062 m, at 0.3 m tall). A figure farther from the table's top
 #: and bottom is not planned (the action frame's CPU p99 at the centre 1.2 -> 2.2 ms planned).
 EDGE_REACH = 0.4
+#: Fastest the planned drawing offset moves (m/s; 5 mm a 30 fps frame): the plan from the clip
+#: overshoots (a spin kick from 0,15 near the bottom planned 0.107 m, 0.01 needed), unlimited
+#: its largest one-frame move of a drawn part was 62.3 mm, 56.5 with (52.3 drawn in place).
+EDGE_SPEED = 0.15
 #: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
 PATH_S = 2.5
 
@@ -208,7 +212,7 @@ class TouchPose(ActionControl):
             self._action(dt)
         self.target = self._on_table(self.target)
         self.track(dt)
-        self.edge.lift = self._edge_lift(t)
+        self.edge.lift = self._edge_lift(t, dt)
         return self.frame(t) if record else None
 
     def track(self, dt: float) -> None:
@@ -249,7 +253,7 @@ class TouchPose(ActionControl):
             xy = xy + np.array([0.0, self.edge.lift])
         return xy
 
-    def _edge_lift(self, t: float) -> float:
+    def _edge_lift(self, t: float, dt: float) -> float:
         """The drawing's table-y offset (m) at time ``t``: the running action's plan (made
         at its first frame), eased out after it; any part still beyond the table's y extent
         (tracking lag, physical sway) brought onto it."""
@@ -268,6 +272,8 @@ class TouchPose(ActionControl):
             if edge.lift == 0.0 and not self._rest_need():
                 return 0.0
             lift = edge.after(t, self._rest_need())
+        step = EDGE_SPEED * dt
+        lift = edge.lift + min(max(lift - edge.lift, -step), step)
         y = self.camera.table(self._points(self.output))[:, 1] + lift
         lo, hi = float(y.min()), float(y.max())
         if hi - lo <= self.table[1]:
