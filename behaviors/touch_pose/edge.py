@@ -6,6 +6,11 @@ offset along the table's y (metres) by the clip's own need, looked up over the a
 generalised time and eased in ``EASE_S`` before the part that needs it and out after (the
 action's postures at ``SAMPLES`` times, with the weights it started with, placed where it
 started). A figure that stays inside is drawn exactly where it was (no offset).
+
+Left along x: the tracked output swings past the target kept inside (``engine._on_table``) near
+the table's ends (a spin kick from 90,15 at x 1.15: 0.047 m beyond). A table-x offset eased
+toward the need at ``EDGE_SPEED``, the rest brought on at once, kept every part on (off cases
+13 -> 0 of 96) but moved a part 75.5 mm in one frame (61.3 drawn in place): refused.
 """
 
 from __future__ import annotations
