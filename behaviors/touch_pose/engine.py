@@ -34,6 +34,7 @@ import numpy as np
 
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel
 from behaviors.touch_pose.action_control import ActionControl, Handover
+from behaviors.touch_pose.edge import TABLE_MARGIN, EdgeLift, EdgeOffset
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, qrot
 from behaviors.touch_pose.ik import CCD, limit_goal
@@ -50,10 +51,6 @@ TURN_DEG_PER_M = 300.0
 #: Parts drawn within this fraction of ``reach`` of the nearest to a finger overlap it: the
 #: finger takes the one in front.
 OVERLAP = 0.25
-#: How far inside the table's ends the target's drawn points are kept (m): the tracked output
-#: lags and sways past the target by up to 0.02 m (0.019 m measured after three punches,
-#: physics on).
-TABLE_MARGIN = 0.02
 #: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
 PATH_S = 2.5
 
@@ -70,7 +67,7 @@ def learned_models() -> Models:
     return _MODELS
 
 
-class TouchPose(ActionControl):
+class TouchPose(ActionControl, EdgeOffset):
     """One touch-posed character on the table."""
 
     def __init__(self, table: tuple[float, float] = (1.2, 0.8), height: float = 0.3,
@@ -110,6 +107,7 @@ class TouchPose(ActionControl):
         self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
         # the ended action's last target, it moved to the base, and the faded-in part (0-1)
         self.handover: Handover | None = None
+        self.edge = EdgeLift()   # the drawing's table-y offset near the top or bottom edge
 
     # --- actions -------------------------------------------------------------------------------
 
@@ -201,6 +199,7 @@ class TouchPose(ActionControl):
             self._action(dt)
         self.target = self._on_table(self.target)
         self.track(dt)
+        self.edge.lift = self._edge_lift(t, dt)
         return self.frame(t) if record else None
 
     def track(self, dt: float) -> None:
@@ -231,8 +230,15 @@ class TouchPose(ActionControl):
 
     def table_points(self) -> np.ndarray:
         """The output posture's joints and parts projected on the table (19, 2; metres), in
-        the order :attr:`Humanoid.bones` indexes."""
-        return self.camera.table(self._points(self.output))
+        the order :attr:`Humanoid.bones` indexes, drawn offset near the table's edge."""
+        return self._drawn(self._points(self.output))
+
+    def _drawn(self, points: np.ndarray) -> np.ndarray:
+        """Table points (m) of model ``points`` as drawn: with the edge offset (table y)."""
+        xy = self.camera.table(points)
+        if self.edge.lift != 0.0:
+            xy = xy + np.array([0.0, self.edge.lift])
+        return xy
 
     def head_facing(self) -> tuple[float, float, float]:
         """Where the output posture's head turns (its forward, the model's x, about the
@@ -258,7 +264,7 @@ class TouchPose(ActionControl):
         return {"t": round(float(t), 6), "mode": self.mode,
                 "action": self.clock.action.name if u is not None else None,
                 "action_time": None if u is None else round(u * self.clock.action.duration, 5),
-                "parts": dict(zip(PARTS, np.round(self.camera.table(parts), 5).tolist())),
+                "parts": dict(zip(PARTS, np.round(self._drawn(parts), 5).tolist())),
                 "joints": dict(zip(names, np.round(world, 5).tolist())),
                 "touches": {str(i): f.part for i, f in sorted(self.fingers.items())}}
 
@@ -266,7 +272,7 @@ class TouchPose(ActionControl):
         for i in [i for i in self.fingers if i not in touches]:
             del self.fingers[i]
         free_before = {i: f.table.copy() for i, f in self.fingers.items() if f.part is None}
-        parts = self.camera.table(self._points(self.output)[self._np:])
+        parts = self._drawn(self._points(self.output)[self._np:])
         taken = False
         for i, (x, y) in touches.items():
             xy = np.array([float(x), float(y)])

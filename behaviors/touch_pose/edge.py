@@ -1,0 +1,186 @@
+"""A figure standing near the table's top or bottom edge kept on the table through an action.
+
+Actions rise and travel (a jump's highest part 0.04 m, a punch's 0.06 m above the standing
+figure's top at 0.3 m tall, view 90,15): near the edge they left the table. The drawing is
+offset along the table's y (metres) by the clip's own need, looked up over the action's
+generalised time and eased in ``EASE_S`` before the part that needs it and out after (the
+action's postures at ``SAMPLES`` times, with the weights it started with, placed where it
+started). A figure that stays inside is drawn exactly where it was (no offset).
+
+Left along x: the tracked output swings past the target kept inside (``engine._on_table``) near
+the table's ends (a spin kick from 90,15 at x 1.15: 0.047 m beyond). A table-x offset eased
+toward the need at ``EDGE_SPEED``, the rest brought on at once, kept every part on (off cases
+13 -> 0 of 96) but moved a part 75.5 mm in one frame (61.3 drawn in place): refused.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from behaviors.touch_pose.samples import place
+
+#: How far inside the table's ends the target's drawn points are kept (m): the tracked output
+#: lags and sways past the target by up to 0.02 m (0.019 m measured after three punches,
+#: physics on).
+TABLE_MARGIN = 0.02
+#: How far (in figure heights) an action is planned to reach beyond the figure's drawn extent
+#: when it starts: 1.5 times the farthest measured (spin kick from 0,15 near the bottom 0.078 m,
+#: punch from 90,15 near the top 0.062 m, at 0.3 m tall). A figure farther from the table's top
+#: and bottom is not planned (the action frame's CPU p99 at the centre 1.2 -> 2.2 ms planned).
+EDGE_REACH = 0.4
+#: Fastest the planned drawing offset moves (m/s; 5 mm a 30 fps frame): the plan from the clip
+#: overshoots (a spin kick from 0,15 near the bottom planned 0.107 m, 0.01 needed), unlimited
+#: its largest one-frame move of a drawn part was 62.3 mm, 56.5 with (52.3 drawn in place).
+EDGE_SPEED = 0.15
+
+#: Seconds over which the drawing offset is eased in before it is needed and out after.
+EASE_S = 0.4
+#: Generalised times at which an action's postures are looked at when it starts.
+SAMPLES = 32
+#: Of them planned per frame (about 0.1 ms CPU each), the nearest ahead first: a clip
+#: (1.27 s and more, at most 1.6 times its pace) runs at most 0.05 of its generalised time a
+#: frame; they cover 0.125.
+PER_FRAME = 4
+
+
+def smooth(x: np.ndarray | float) -> np.ndarray:
+    """Smoothstep of ``x`` clipped to 0-1 (0 -> 0, 1 -> 1, flat at both ends)."""
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
+
+
+def need(y: np.ndarray, height: float, margin: float) -> float:
+    """Table-y offset (m) bringing drawn points ``y`` (m) ``margin`` inside a table ``height``
+    deep; 0 when they lie inside or cannot fit."""
+    lo, hi = float(y.min()), float(y.max())
+    if hi - lo > height - 2.0 * margin:
+        return 0.0
+    if lo < margin:
+        return margin - lo
+    return height - margin - hi if hi > height - margin else 0.0
+
+
+class EdgeLift:
+    """The drawing offset (table y, m) of one character: planned when an action starts,
+    eased out after it ends."""
+
+    def __init__(self) -> None:
+        self.clock: object | None = None        # the running action's clock it was planned for
+        self.u = np.linspace(0.0, 1.0, SAMPLES)
+        self.needs = np.zeros(SAMPLES)
+        self.width_u = 1.0                      # EASE_S as generalised time
+        self.seen = (0.0, 0.0)                  # generalised times the action ran through
+        self.t0 = 0.0                           # seconds when it started
+        self.moved: np.ndarray | None = None    # output's low/high y less the clip's at start
+        self.lift = 0.0                         # the offset drawn now
+        self.ended: tuple[float, float] | None = None   # (t, offset) when the action ended
+        self.rest = 0.0                  # the need (m) of the posture the last action left
+        self.rest_of: object | None = None   # that posture
+
+    def plan(self, clock: object, duration: float, u: float, t: float) -> None:
+        """Start planning the action ``clock`` runs, ``duration`` seconds long, started at
+        generalised time ``u``, time ``t`` (s): its needs (m) at :attr:`u` are filled in
+        ``PER_FRAME`` a frame (:meth:`next_samples`)."""
+        self.clock, self.t0, self.moved = clock, t, None
+        self.needs = np.full(SAMPLES, np.nan)
+        self.width_u = EASE_S / max(duration, 1e-6)
+        self.seen = (u, u)
+        self.ended, self.rest, self.rest_of = None, 0.0, None
+
+    def unplanned(self) -> bool:
+        """Whether some of the action's needs are still to be planned."""
+        return bool(np.isnan(self.needs).any())
+
+    def next_samples(self, u: float, heading: int) -> np.ndarray:
+        """The ``PER_FRAME`` unplanned samples to plan next: those ahead (the ``heading`` way)
+        nearest ``u`` first, then those behind."""
+        todo = np.flatnonzero(np.isnan(self.needs))
+        behind = (self.u[todo] < u) if heading > 0 else (self.u[todo] > u)
+        order = np.lexsort((np.abs(self.u[todo] - u), behind))
+        return todo[order[:PER_FRAME]]
+
+    def during(self, u: float, heading: int, t: float) -> float:
+        """The eased offset at generalised time ``u`` running the ``heading`` way (+1 or -1):
+        each sample's need, of the times run through or lying ahead, weighed down with its time
+        distance (smoothstep over ``EASE_S``), the largest up and down taken. (Times behind the
+        start left in: a spin kick started at 0.61 from 200,10 near the bottom was drawn
+        0.05 m higher at once.)"""
+        self.seen = (min(self.seen[0], u), max(self.seen[1], u))
+        ahead = self.u > u if heading > 0 else self.u < u
+        used = ahead | ((self.u >= self.seen[0]) & (self.u <= self.seen[1]))
+        needs = np.where(used & ~np.isnan(self.needs), self.needs, 0.0)
+        w = smooth(1.0 - np.abs(self.u - u) / self.width_u) * needs
+        ease = float(smooth((t - self.t0) / EASE_S))
+        return ease * float(w.max(initial=0.0) + w.min(initial=0.0))
+
+    def after(self, t: float, rest: float) -> float:
+        """The offset at time ``t`` (s) eased from where the last action left it to ``rest``
+        (m), the need of the posture the action left where it rests. (Taken at once, a jump
+        seen from 250,25 near the top moved every part 0.034 m in one frame as it ended.)"""
+        if self.ended is None:
+            self.ended = (t, self.lift)
+        t0, lift = self.ended
+        return float(lift + (rest - lift) * smooth((t - t0) / EASE_S))
+
+
+class EdgeOffset:
+    """The drawing offset of :class:`behaviors.touch_pose.engine.TouchPose` (mixed in)."""
+
+    def _edge_lift(self, t: float, dt: float) -> float:
+        """The drawing's table-y offset (m) at time ``t``: the running action's plan (made
+        at its first frame), eased out after it; any part still beyond the table's y extent
+        (tracking lag, physical sway) brought onto it."""
+        edge = self.edge
+        if self.mode == "action" and self.clock is not None:
+            if edge.clock is not self.clock:
+                edge.plan(self.clock, self.clock.action.duration, self.clock.u, t)
+                y = self.camera.table(self._points(self.output))[:, 1]
+                reach = EDGE_REACH * self.scale * self.stand_height
+                if y.min() > reach and y.max() < self.table[1] - reach:
+                    edge.needs[:] = 0.0     # no action reaches an edge from here: none planned
+            if edge.unplanned():
+                self._clip_needs()
+            lift = edge.during(self.clock.u, self.clock.heading, t)
+        else:
+            if edge.lift == 0.0 and not self._rest_need():
+                return 0.0
+            lift = edge.after(t, self._rest_need())
+        step = EDGE_SPEED * dt
+        lift = edge.lift + min(max(lift - edge.lift, -step), step)
+        y = self.camera.table(self._points(self.output))[:, 1] + lift
+        lo, hi = float(y.min()), float(y.max())
+        if hi - lo <= self.table[1]:
+            lift += max(0.0, -lo) - max(0.0, hi - self.table[1])
+        return lift
+
+    def _rest_need(self) -> float:
+        """The drawing offset (m, table y) the posture left by the last action needs where it
+        rests (a punch seen from 90,15 travels in depth: it ends 0.03 m higher on the table),
+        kept after the handover until the next action."""
+        if self.handover is not None and self.edge.rest_of is not self.handover.at_base:
+            y = self.camera.table(self.body.points(self.handover.at_base))[:, 1]
+            self.edge.rest_of = self.handover.at_base
+            self.edge.rest = need(y, self.table[1], TABLE_MARGIN)
+        return self.edge.rest
+
+    def _clip_needs(self) -> None:
+        """Plan ``edge.PER_FRAME`` more of the running action's drawing offsets (m, table y) at
+        ``edge.SAMPLES`` times, the nearest ahead first (all at its first frame: the action
+        frame's CPU p99 1.2 -> 4.8 ms): its postures with the weights of its first synthesis,
+        placed where it started, their lowest and highest drawn points moved by the output's
+        own against the clip's at the time it started (the clip alone: a spin kick from 30,20
+        near the top was drawn 0.09 m too low)."""
+        a, edge = self.clock.action, self.edge
+        last = self.action_blend[1] if self.action_blend and self.action_blend[0] is a else None
+        base, yaw = self.action_base
+
+        def extent(u: float) -> np.ndarray:
+            pose = place(a.model.at_time(last, u).pose, base, yaw)
+            y = self.camera.table(self.body.points(pose))[:, 1]
+            return np.array([y.min(), y.max()])
+
+        if edge.moved is None:
+            now = self.camera.table(self._points(self.output))[:, 1]
+            edge.moved = np.array([now.min(), now.max()]) - extent(self.clock.u)
+        for k in edge.next_samples(self.clock.u, self.clock.heading):
+            edge.needs[k] = need(extent(edge.u[k]) + edge.moved, self.table[1], TABLE_MARGIN)

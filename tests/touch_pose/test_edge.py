@@ -1,0 +1,48 @@
+"""A figure placed near the table's top or bottom edge stays on the table through its actions,
+its drawing offset eased in and out, and a figure that stays inside is drawn where it was."""
+
+import numpy as np
+import pytest
+
+from bench.touch_pose_drags import stroke_drag
+
+
+def _drawn(make, models, at, view, name):
+    """Every frame's drawn points (n, 19, 2; table m) and edge offsets (n; m) through the drag
+    of ``name``'s stroke and 1 s after."""
+    e = make(view=view, physics=False, at=at)
+    pts, lifts = [], []
+    step = e.step
+
+    def recorded(t, touches, record=True):
+        out = step(t, touches, record)
+        pts.append(e.table_points().copy())
+        lifts.append(e.edge.lift)
+        return out
+
+    e.step = recorded
+    out, _, _ = stroke_drag(e, models, name, pace=1.0, after=1.0)
+    assert any(r["action"] == name for r in out)
+    return np.array(pts), np.array(lifts)
+
+
+# near the top, view 90,15, 0.3 m tall: the punch's highest part reached y 0.842, the jump's
+# 0.816 on a 0.8 m table; near the bottom, view 30,20, the punch's lowest -0.017
+@pytest.mark.parametrize("at, view, name", [((0.6, 0.7), (90.0, 15.0), "punch"),
+                                             ((0.3, 0.76), (90.0, 15.0), "jump"),
+                                             ((0.6, 0.05), (30.0, 20.0), "punch")])
+def test_a_figure_near_the_edge_stays_on_the_table_through_an_action(make, models, at, view,
+                                                                     name):
+    pts, lifts = _drawn(make, models, at, view, name)
+    assert pts[..., 1].max() <= 0.8 + 1e-9
+    assert pts[..., 1].min() >= -1e-9
+    assert np.abs(lifts).max() > 0.01
+    # eased: the offset moves at most 9 mm a frame (2.9, 6.3, 4.9 mm measured; the punch's
+    # hand itself moves up to 47 mm a frame)
+    assert np.abs(np.diff(lifts)).max() < 0.009
+
+
+@pytest.mark.parametrize("name", ["punch", "jump", "kick"])
+def test_a_figure_that_stays_inside_is_drawn_where_it_was(make, models, name):
+    pts, lifts = _drawn(make, models, None, (90.0, 15.0), name)
+    assert np.all(lifts == 0.0)
