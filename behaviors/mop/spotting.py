@@ -221,6 +221,11 @@ SHARE_SKIP = 3
 #: A template whose followed progress fell this far below its highest since the gesture began
 #: is going back: no start read forwards, so it keeps no other action from driving.
 SHARE_BACK = 0.03
+#: A gesture never recognised (nothing drove since the attempt began) whose likeliest template,
+#: neither refused nor valid, is followed to ``end`` ends there, pending as a recognised end is:
+#: a new attempt starts once the input moves on from that point (:meth:`GestureEnd._moved_on`),
+#: anchored there, and the next gesture is followed afresh, not on the old sums.
+UNSEEN_END = True
 
 
 class GestureSpotting(GestureEnd):
@@ -301,6 +306,10 @@ class GestureSpotting(GestureEnd):
               and np.sum((x - self._end_last) ** 2) < np.sum((self._end_x - self._end_last) ** 2)):
             # ended at its tempo: the end is where the input comes nearest its last point
             self._end_x = x.copy()
+        if (UNSEEN_END and self._end_x is None and self._unseen_x is None and self._drive_k < 0
+                and not valid and not self._refused[bi] and progress >= self.end):
+            # never recognised, its likeliest template followed to its end: pending there
+            self._unseen_x, self._unseen_last = x.copy(), self._last_point(bi)
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)
         # the input's step here and its path since the anchor (under_way.underway)
         self._step_prev, self._step_last = self._step_last, step_length(
@@ -319,6 +328,11 @@ class GestureSpotting(GestureEnd):
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)
             self._ended = bi
+        elif (self._unseen_x is not None and self._drive_k < 0
+              and self._moved_on(x, bi, self._unseen_x, self._unseen_last)):
+            anchor = self._unseen_x
+            self._restart_here(x, forward, offset)
+            self._anchor = anchor
         elif self._lost >= self.lost_samples:
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
             came = x - self._anchor   # (the anchor is set at the first sample: _inputs)
