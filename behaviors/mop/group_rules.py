@@ -96,7 +96,7 @@ class GroupRules:
             if h != members.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1
-            if h in (members.AFTER_END, members.RESTING):
+            if h in (members.AFTER_END, members.RESTING, members.UNSEEN):
                 self._ended[i] = gb[i] - self._bounds[i]
             # every template of this member at its first state, no evidence
             cols = self._slices[i]

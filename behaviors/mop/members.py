@@ -426,7 +426,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 spread[c] = scale[gb, c] * sk
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             if (UNSEEN_END and not has_end[i] and not has_unseen[i] and drive_k[i] < 0
-                    and not val and not refused[gb] and pb >= m[8]):
+                    and not val and not refused[gb] and pb >= m[8] and end_history_n[i] > 1
+                    and TEMPO_END_FROM <= end_history[i, end_history.shape[1] - 2] < m[8]):
                 # GestureSpotting._spot: never recognised, followed to its end: pending there
                 has_unseen[i] = True
                 for c in range(d):

@@ -307,7 +307,9 @@ class GestureSpotting(GestureEnd):
             # ended at its tempo: the end is where the input comes nearest its last point
             self._end_x = x.copy()
         if (UNSEEN_END and self._end_x is None and self._unseen_x is None and self._drive_k < 0
-                and not valid and not self._refused[bi] and progress >= self.end):
+                and not valid and not self._refused[bi] and progress >= self.end
+                and len(self._end_history) > 1
+                and TEMPO_END_FROM <= self._end_history[-2] < self.end):
             # never recognised, its likeliest template followed to its end: pending there
             self._unseen_x, self._unseen_last = x.copy(), self._last_point(bi)
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)
@@ -333,6 +335,7 @@ class GestureSpotting(GestureEnd):
             anchor = self._unseen_x
             self._restart_here(x, forward, offset)
             self._anchor = anchor
+            self._ended = bi   # shown at its end until the next gesture engages
         elif self._lost >= self.lost_samples:
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
             came = x - self._anchor   # (the anchor is set at the first sample: _inputs)
