@@ -234,6 +234,8 @@ class GestureEnd:
         template's last point (at the estimated size, from the anchor) than when the end was
         reached, by more than the jitter of a still input (:data:`MOVE_RADII` in a column), so
         the next gesture has begun; the slow final approach to the last point is not moving on.
+        ``end_x``, ``last``: another end and its last point (a gesture never recognised,
+        :data:`~behaviors.mop.spotting.UNSEEN_END`); by default the end reached.
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed.
         The last point is taken where the end was reached (``_end_last``): the size estimate goes
