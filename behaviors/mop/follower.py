@@ -309,6 +309,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._end_history: list[float] = []   # handover.tempo_ended
         self._lagged = False   # the end was reached by handover.tempo_ended
         self._end_x: np.ndarray | None = None
+        # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
+        self._unseen_x: np.ndarray | None = None
+        self._unseen_last: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()
         self._threshold_ev, self._threshold_x = 0.0, None

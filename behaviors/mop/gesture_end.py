@@ -228,11 +228,14 @@ class GestureEnd:
         r = (x - self._end_x) / (self.bank.scale[k] * self._size[k])
         return bool(np.mean(r * r) >= (distance * self.sigma) ** 2)
 
-    def _moved_on(self, x: np.ndarray, k: int) -> bool:
+    def _moved_on(self, x: np.ndarray, k: int, end_x: np.ndarray | None = None,
+                  last: np.ndarray | None = None) -> bool:
         """The input moved on from where template ``k`` reached its end: it is farther from the
         template's last point (at the estimated size, from the anchor) than when the end was
         reached, by more than the jitter of a still input (:data:`MOVE_RADII` in a column), so
         the next gesture has begun; the slow final approach to the last point is not moving on.
+        ``end_x``, ``last``: another end and its last point (a gesture never recognised,
+        :data:`~behaviors.mop.spotting.UNSEEN_END`); by default the end reached.
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed.
         The last point is taken where the end was reached (``_end_last``): the size estimate goes
@@ -247,9 +250,10 @@ class GestureEnd:
         -> 0.9005 / 0.9014, holds valid after 30% 0.958 / 0.965 -> 0.958 / 0.963, unrelated
         unchanged; seeds 0-39 above: a line's 5 ticks on a square begun late gone. 1.5: sized
         0.9002 / 0.9008, too near the 0.9 target."""
-        last = self._end_last
+        end_x = self._end_x if end_x is None else end_x
+        last = self._end_last if last is None else last
         return bool(np.any(np.abs(x - last)
-                           > np.abs(self._end_x - last) + MOVE_RADII * self._still_radius))
+                           > np.abs(end_x - last) + MOVE_RADII * self._still_radius))
 
     def _returned(self, x: np.ndarray, k: int, progress: float) -> bool:
         """The input came back to template ``k``'s last point (within :data:`RETURN_RADIUS` of

@@ -115,6 +115,9 @@ class GroupArrays:
         self._end_x = np.zeros((m, dmax))
         self._end_last = np.zeros((m, dmax))   # the ended template's last point (_moved_on)
         self._has_end = np.zeros(m, dtype=bool)
+        # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
+        self._unseen_x, self._unseen_last = np.zeros((m, dmax)), np.zeros((m, dmax))
+        self._has_unseen = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
         self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
         # the action's last TEMPO_END_KEEP (13) progress values, _end_history_n of them valid,
@@ -143,7 +146,8 @@ class GroupArrays:
                    "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
                    "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
-                   "_lagged", "_blocked", "_blocked_k", "_barred", "_freed")
+                   "_lagged", "_blocked", "_blocked_k", "_barred", "_freed", "_unseen_x",
+                   "_unseen_last", "_has_unseen")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

@@ -84,6 +84,8 @@ class GroupRules:
                 last = self._end_last[i]
                 if np.sum((self._x[i] - last) ** 2) < np.sum((anchor - last) ** 2):
                     anchor = last
+            elif h == members.UNSEEN:
+                anchor = self._unseen_x[i].copy()   # where it was followed to its end
             elif h == members.WAITING:
                 anchor = members.recent_mean(self._buf[i:i + 1], self._nbuf[i:i + 1],
                                              self._m_keep[i:i + 1])[0]
@@ -94,7 +96,7 @@ class GroupRules:
             if h != members.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1
-            if h in (members.AFTER_END, members.RESTING):
+            if h in (members.AFTER_END, members.RESTING, members.UNSEEN):
                 self._ended[i] = gb[i] - self._bounds[i]
             # every template of this member at its first state, no evidence
             cols = self._slices[i]
@@ -142,6 +144,7 @@ class GroupRules:
         self._step_prev[rows], self._step_last[rows] = 0.0, 0.0
         self._underway[rows], self._underway_rested[rows] = False, False
         self._has_end[rows] = False
+        self._has_unseen[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._end_history_n[rows] = 0
         self._lagged[rows] = False

@@ -28,7 +28,7 @@ from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMP
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
-from behaviors.mop.spotting import SHARE_BACK
+from behaviors.mop.spotting import SHARE_BACK, UNSEEN_END
 from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
                                     REST_BEHIND, TAKEN_PERFORMED)
@@ -45,8 +45,9 @@ _BB2 = numba.boolean[:, ::1]
 
 #: How a member's new attempt starts (:meth:`GestureSpotting._spot`): none; its gesture ended
 #: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
-#: every template was refused too long; the input is still and waiting (anchored at its mean).
-GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING = range(5)
+#: every template was refused too long; the input is still and waiting (anchored at its mean);
+#: it moved on from where a template never valid was followed to its end (:data:`UNSEEN_END`).
+GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING, UNSEEN = range(6)
 #: Per-member scalars (columns of ``mk`` (M, 14 + 2D), then the rows ``radius`` and ``units``).
 MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep",
                 "hint_onset", "end", "null2", "depart2", "lost_after", "dims", "memory")
@@ -54,7 +55,8 @@ _RAD = len(MEMBER_RULES)
 #: The members' own arrays of a follower group (its attributes of these names), each a row of
 #: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
 #: (:func:`conclude`, :func:`~behaviors.mop.group_kernel.update_templates`) take them.
-MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came")
+MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came", "_unseen_x",
+                  "_unseen_last")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
                "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n", "_blocked",
@@ -65,7 +67,7 @@ MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
-                "_underway_rested")
+                "_underway_rested", "_has_unseen")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -124,15 +126,19 @@ def committed(shape: np.ndarray, lags: np.ndarray, flags: np.ndarray, a0: int, a
 
 @compiled(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
                    numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
-                   numba.boolean), *_CALLS_INTO)
+                   numba.boolean, numba.boolean), *_CALLS_INTO)
 def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, gone: bool,
-         valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool) -> int:
+         valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool,
+         unseen: bool) -> int:
     """:meth:`GestureSpotting._spot`'s choice (after ``_end_x`` was set this sample): one of
-    :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`."""
+    :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`,
+    :data:`UNSEEN` (``unseen``: moved on from a pending end never recognised)."""
     if has_end and (still_ or step_d2 > null2 or not ok or gone):
         return AFTER_END
     if valid and still_ and progress >= 0.9:
         return RESTING
+    if unseen and not has_end:
+        return UNSEEN
     if lost >= lost_samples:
         return ABANDONED
     if still_ and not engaged:
@@ -247,6 +253,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     any_engaged, all_refused, leads, rest, committed = (m_flags[0], m_flags[1], m_flags[2],
                                                         m_flags[4], m_flags[5])
     has_end, turn_ok, drive_moved = m_flags[6], m_flags[7], m_flags[8]
+    has_unseen, unseen_x, unseen_last = m_flags[16], vectors[6], vectors[7]
     variance, loglik, distance, prog = out[0], out[1], out[2], out[3]
     valid, show, holding, restarted = out_flags[0], out_flags[1], out_flags[2], out_flags[3]
     d = x.shape[1]
@@ -418,7 +425,18 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             for c in range(d):
                 spread[c] = scale[gb, c] * sk
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
+            if (UNSEEN_END and not has_end[i] and not has_unseen[i] and drive_k[i] < 0
+                    and not val and not refused[gb] and pb >= m[8] and end_history_n[i] > 1
+                    and TEMPO_END_FROM <= end_history[i, end_history.shape[1] - 2] < m[8]):
+                # GestureSpotting._spot: never recognised, followed to its end: pending there
+                has_unseen[i] = True
+                for c in range(d):
+                    unseen_x[i, c] = x[i, c]
+                    unseen_last[i, c] = (states[start + length - 1 + off, d + c] * units[c] * sk
+                                         + anchor[i, c])
+            unseen = (has_unseen[i] and drive_k[i] < 0
+                      and moved_on(x[i], unseen_x[i], unseen_last[i], radius))
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
-                              any_engaged[i])
+                              any_engaged[i], unseen)
     member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
     member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)
