@@ -147,11 +147,8 @@ class EdgeOffset:
             lift = edge.after(t, self._rest_need())
         step = EDGE_SPEED * dt
         lift = edge.lift + min(max(lift - edge.lift, -step), step)
-        y = self.camera.table(self._points(self.output))[:, 1] + lift
-        lo, hi = float(y.min()), float(y.max())
-        if hi - lo <= self.table[1]:
-            lift += max(0.0, -lo) - max(0.0, hi - self.table[1])
-        return lift
+        return lift + need(self.camera.table(self._points(self.output))[:, 1] + lift,
+                           self.table[1], 0.0)
 
     def _rest_need(self) -> float:
         """The drawing offset (m, table y) the posture left by the last action needs where it
