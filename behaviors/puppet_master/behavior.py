@@ -320,6 +320,14 @@ class Behavior:
         # 44); disc 0.050 / 0.051 / 0.0515 / 0.052 m: 7 / 9 / 8 / 11 (re-matching chaos).
         # bench/fidelity.py --seeds 0-5 / 8-13 / 26-31: met 673 / 671 / 661 -> 673 / 671 /
         # 660, the others the same to the last digit. With lose_inward too: misses 8 -> 11
+        # The friend's disc from its demonstration's own contact distances instead of their
+        # least (0.0524 m; its darts bottom out at 0.052-0.078 m, median 0.0575; its distances
+        # under 0.08 m at 0.0545 / 0.0561 / 0.0586 / 0.0635 m at the 5th / 10th / 25th / 50th
+        # percentile), the friend alone, its misses (the engine's) on seeds 0-5 / 40-51 /
+        # 128-139 against 2 / 3 / 4: 1 / 3 / 5, 2 / 4 / 4, 0 / 1 / 5, 3 / 3 / 3 (0.0575 m 2 / 3 /
+        # 5, 0.045 / 0.050 m 1 / 6 / 5, 2 / 4 / 4); three runs (relative_motion x 1, 1 +- 0.001)
+        # at the 25th / 50th 3 / 9 / 15, 7 / 10 / 9 against 5 / 10 / 12. A wider disc holds it
+        # pinned farther out, as long (its contact steps on the disc 0.13 -> 0.19-0.26). Not kept
         self.main_disc = self.personal_space if self.personal_space > 0.0 else float(
             self.distance.min())
         # the demonstrated reactor's largest step (metres per sample; inf if it never moved)

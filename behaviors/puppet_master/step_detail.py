@@ -252,6 +252,26 @@ class StepDetail(StepSenses):
         # 21%, loops 17% -> 23%; its designer 13% / 12%). Nor a capped step that ends in a
         # disc turned by up to +-90 degrees to end out of all (inside the main's disc, two
         # 12-47 0.0613 -> 0.0628, three 84-119 0.0595 -> 0.0614).
+        # Where the playful friend sits on the main's disc (Python step, fast and loops paths of
+        # seeds 0-5, 40-45): 34% of the steps of its contacts over 0.35 s, 9% of the shorter
+        # ones' (its designer 3% of its contact steps within 1 mm of the disc). Of those, 42%
+        # at world places, a main walking into it (0.29 m/s toward it, the raw step held to
+        # the moment's pace on 87%); 58% at main-frame places beside a main hardly closing
+        # (0.05 m/s), where the match copies a dart's inward relative step (moments 0.074 m
+        # off, median; run-ups at 0.10-0.12 m) from a place already nearer than the moment.
+        # Measured, the friend alone, its misses (the engine's) on seeds 0-5 / 40-51 / 128-139
+        # over five runs (relative_motion x 1, 1 +- 0.001, 1 +- 0.002), against 8 / 18 / 18
+        # (unperturbed 2 / 3 / 4; long contacts 17%, on the disc 13% of contact steps, fast /
+        # loops contact 0.044 / 0.038): that inward part scaled by the live room to the disc
+        # over the moment's ((live - disc) / (moment - disc)) while the friend is within
+        # TOUCH_M of its main at a moment that is not: 11 / 9 / 13 (1 / 3 / 3), long contacts
+        # 13-15% (its designer 12%), on the disc 9-11%, but loops contact 0.028-0.033 (its
+        # designer 0.038-0.041: its darts fall short there, step.py) and seeds 300-311 0 -> 2;
+        # at any moment within TOUCH_M (three runs, against 5 / 10 / 12) 2 / 18 / 9 (fast paths
+        # under at 0.018-0.021); nearer than the moment anywhere 5 / 20 / 12; the inward part
+        # dropped on the disc 3 / 14 / 19 (five runs), nearer than the moment 3 / 8 / 6 (one
+        # run; contact 0.032 / 0.025). Not kept. The disc from the demonstration's contact
+        # distances: Behavior.main_disc.
         # The main's disc, the lover's contact met on all 21 unseen paths of seeds 0-5 and 7
         # instead of 7 (fast and loops paths 0.03-0.20 -> 0.000-0.004 against 0.008);
         # bench/fidelity.py --seeds 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1),
