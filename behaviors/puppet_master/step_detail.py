@@ -267,8 +267,8 @@ class StepDetail(StepSenses):
         # TOUCH_M of its main at a moment that is not: 11 / 9 / 13 (1 / 3 / 3), long contacts
         # 13-15% (its designer 12%), on the disc 9-11%, but loops contact 0.028-0.033 (its
         # designer 0.038-0.041: its darts fall short there, step.py) and seeds 300-311 0 -> 2;
-        # at any moment within TOUCH_M (three runs, against 5 / 10 / 12) 2 / 18 / 9 (fast paths
-        # under at 0.018-0.021); nearer than the moment anywhere 5 / 20 / 12; the inward part
+        # at any moment within TOUCH_M (three runs, against 5 / 10 / 12) 2 / 18 / 9 (seeds
+        # 40-51 under at 0.018-0.021); nearer than the moment anywhere 5 / 20 / 12; the inward part
         # dropped on the disc 3 / 14 / 19 (five runs), nearer than the moment 3 / 8 / 6 (one
         # run; contact 0.032 / 0.025). Not kept. The disc from the demonstration's contact
         # distances: Behavior.main_disc.
