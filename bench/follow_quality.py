@@ -276,7 +276,9 @@ TARGETS: dict[str, tuple[str, float]] = {
     "sequence_6_gestures_recognised_within_20pct_or_reach_share": (">=", 1.0),
     "sequence_6_gestures_recognised_within_20pct_open_share": (">=", 1.0),
     "sequence_6_gestures_wrong_valid_longest_ticks_max": ("<=", 2.0),
+    "sequence_6_gestures_recognised_within_20pct_or_reach_plus_005_share": (">=", 1.0),
     "sequence_20_templates_recognised_within_20pct_share": (">=", 1.0),
+    "sequence_20_templates_recognised_within_20pct_or_reach_plus_005_share": (">=", 1.0),
     "sequence_20_templates_wrong_valid_longest_ticks_max": ("<=", 2.0)}
 
 
