@@ -47,7 +47,9 @@ progress or, where no observer can tell a gesture from the others by 20% (the li
 square, 0.37), by the observer's reach, with each gesture's median recognition minus its reach;
 per gesture its share within 20% and how long an observer cannot tell it from another gesture,
 an unrelated stroke or a straight stroke, and the share within 20% among those open by then
-(the circle, zigzag and wave; ``bench/follow_sequences.py``).
+(the circle, zigzag and wave; ``bench/follow_sequences.py``); among the six and among all twenty,
+the share recognised within 20% or by the observer's reach (from every loaded template and every
+unrelated stroke drawn) + 0.05, and the share whose reach is within 20% at all.
 ``targets_missed`` names the figures, the held-out ones too, that miss the issue's targets
 (:data:`TARGETS`, the JSON line's budgets, also for ``--sections``).
 Deterministic (seeded): quality is not timed.
@@ -276,7 +278,9 @@ TARGETS: dict[str, tuple[str, float]] = {
     "sequence_6_gestures_recognised_within_20pct_or_reach_share": (">=", 1.0),
     "sequence_6_gestures_recognised_within_20pct_open_share": (">=", 1.0),
     "sequence_6_gestures_wrong_valid_longest_ticks_max": ("<=", 2.0),
+    "sequence_6_gestures_recognised_within_20pct_or_reach_plus_005_share": (">=", 1.0),
     "sequence_20_templates_recognised_within_20pct_share": (">=", 1.0),
+    "sequence_20_templates_recognised_within_20pct_or_reach_plus_005_share": (">=", 1.0),
     "sequence_20_templates_wrong_valid_longest_ticks_max": ("<=", 2.0)}
 
 

@@ -32,6 +32,25 @@ sum is within 0.4 sigma of its own spread at its size: six gestures within 20% 0
 six; the told worst unchanged, 0.057), a spiral after a gesture 0.072 -> 0.083 (0.4 sigma: held-out
 0.083 -> 0.088) and a pause's wrong valid share 0 -> 0.011; at 0.3 and 0.35 sigma no gesture
 sooner.
+
+What holds twenty templates back to back past the observer's reach (``bench/follow_sequences.
+full_reach``: every other template and unrelated stroke, 2 mm) + 0.05: 23 of 32 tuned gestures,
+66 of 96 held-out (seeds 101-103). Per tick from the reach to recognition (progress summed over
+both): the true template not ``best`` on the evidence with commitment closed 4.9 (its fit alone
+1.2, 75 ticks; its fit with the lead or coverage 2.7), the confirmation's sample 1.9 (one a
+gesture), best but not leading in shape 1.25 (a probable rival within ``LEAD``: the line on the
+spin ankle), coverage 1.2, a shared start 0.4, a slow take 0.3. The tuned kick ankle (4 draws,
+0.8-1.2x): the walk ankle best by 2-5 nats and ahead in shape by 200-400 still radii squared at
+0.21-0.29 of it, its followed state 1-3 states behind a fast start, then 4-7 still radii a sample
+off on its fast stretch (several mm a state). Measured and not kept (``bench/follow_quality.py
+--sections=sequences``, tuned / held-out, before: by the reach + 0.05 0.281 / 0.406, within 20% or
+by it 0.50 / 0.625, mean progress past the reach 0.101 / 0.087): this fit forgotten over 10 samples
+(the fast start's lag forgotten): shares unchanged (0.100 / 0.087), tuned unrelated worst 0.058 ->
+0.063; no fit limit at all (the ceiling of any fit): 0.281 / 0.375, 0.50 / 0.50 (0.096 / 0.076:
+sooner on the mean, wrong commitments); the lead and commitment read at each template's best
+constant offset too: held-out 0.438, 0.656 (one gesture; seeds 101-106 only 101), but held-out
+sized valid after 30% lower on 102, 104-106 (mean 0.9058 -> 0.9055) and a stroke after a gesture
+valid 0.0448 -> 0.0466 of its ticks (tuned mean).
 """
 
 from __future__ import annotations
