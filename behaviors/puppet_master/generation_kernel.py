@@ -308,6 +308,32 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
     return clamp_to_table(x, y, c)
 
 
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _F2, _F1), step_math, apart)
+def no_deeper(rx: float, ry: float, x: float, y: float, others: np.ndarray,
+              c: np.ndarray) -> tuple[float, float]:
+    """apart.no_deeper (``others``: (m, 3) rows x, y, least distance)."""
+    for visit in range(APART_PASSES):
+        moved = False
+        for k in range(others.shape[0]):
+            ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
+            dx, dy = x - ox, y - oy
+            d = hypot(dx, dy)
+            keep = _min(least, hypot(rx - ox, ry - oy))
+            if d >= keep:
+                continue
+            if d < 1e-9:
+                x, y = rx, ry
+            else:
+                x, y = ox + dx * keep / d, oy + dy * keep / d
+                cx, cy = clamp_to_table(x, y, c)
+                if cx != x or cy != y:
+                    x, y = along_edge(cx, cy, ox, oy, keep, c)
+            moved = True
+        if not moved or others.shape[0] < 2:
+            break
+    return clamp_to_table(x, y, c)
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
 def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: float,
                        least: float, c: np.ndarray) -> tuple[float, float]:
@@ -361,8 +387,8 @@ def out_of_way(x: float, y: float, mx: float, my: float, vx: float, vy: float, l
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math, apart)
 def moved_on(x: float, y: float, sx: float, sy: float, f: float, others: np.ndarray,
              c: np.ndarray) -> tuple[float, float]:
-    """engine.Reactor.update's position between two steps: (x, y) moved on by the share ``f``
-    of the last step (sx, sy), kept on the table and apart from ``others`` (m, 3)."""
+    """engine.Reactor.update's position between two steps (and _slid's): (x, y) moved on by
+    the share ``f`` of the step (sx, sy), kept on the table and apart from ``others`` (m, 3)."""
     x, y = clamp_to_table(x + sx * f, y + sy * f, c)
     if others.shape[0] > 0:
         x, y = keep_apart(x, y, others, c)

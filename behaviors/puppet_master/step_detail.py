@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.generation import capped, kept_straightness, rotate_step, turn_between
-from behaviors.puppet_master.apart import keep_apart, out_of_way
+from behaviors.puppet_master.apart import keep_apart, no_deeper, out_of_way
 from behaviors.puppet_master.step_senses import StepSenses
 from behaviors.puppet_master.table_boundary import keep_on_table, turn_off_edges
 
@@ -236,7 +236,8 @@ class StepDetail(StepSenses):
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         # the main's personal space (Behavior.personal_space), then the others' discs, which
-        # win where both cannot hold (keep_apart's last pass; the step cap after both). Two
+        # win where both cannot hold (keep_apart's last pass; the step cap after both, then
+        # the capped step no deeper in another's body than it began, apart.no_deeper). Two
         # reactors of one main (0.08 m bodies; unseen closed-loop scenes 0.6 x 0.4 to 3.0 x
         # 0.5 m, 30-60 Hz, five characters x 36 seeds) squeezed with its disc into an edge or
         # corner, seeds 12-47 / 48-83: least gap over the size 0.52 / 0.30 -> 0.85 / 0.86,
@@ -319,5 +320,8 @@ class StepDetail(StepSenses):
             # m and the stalker 0.035 -> 0.042 beside the fast main, but the stalker 0.051 ->
             # 0.038 beside the 30 Hz one and the playful friend 0.050 -> 0.039. Not kept
             sx, sy = capped(sx, sy, b.largest_step)
+            if self.obstacles:          # round the others' bodies, not through (apart.no_deeper)
+                nx, ny = no_deeper(rx, ry, rx + sx, ry + sy, self.obstacles, self.table)
+                sx, sy = capped(nx - rx, ny - ry, b.largest_step)
         gov.observe(sx, sy)
         return sx, sy, heading, texture

@@ -40,8 +40,8 @@ import numpy as np
 from behaviors.puppet_master import apart, generation_kernel, step_math, table_boundary
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
-    keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, out_of_way,
-    share_around, step_around, table_reach, turn_between, turn_off_edges)
+    keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, no_deeper,
+    out_of_way, share_around, step_around, table_reach, turn_between, turn_off_edges)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -361,6 +361,10 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             lose_inward(smooth_x, smooth_y, nx - mx, ny - my)     # pushed aside (step.py)
         sx, sy = nx - rx, ny - ry
         sx, sy = capped(sx, sy, c[LARGEST_STEP])     # shoved (step_detail.py)
+        bodies = obstacles[1:] if c[MAIN_DISC] > 0.0 else obstacles
+        if bodies.shape[0] > 0:                       # round the bodies (step_detail.py)
+            nx, ny = no_deeper(rx, ry, rx + sx, ry + sy, bodies, c)
+            sx, sy = capped(nx - rx, ny - ry, c[LARGEST_STEP])
     # TextureGovernor.observe
     if hypot(sx, sy) <= c[GOV_MIN_STEP]:
         fs[GOV_PREV] = math.nan
