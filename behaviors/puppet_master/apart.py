@@ -134,7 +134,6 @@ def _free_axis(x: float, y: float, least: float, table: tuple[float, float, floa
     return roomy if roomy[0] == roomy[0] else best
 
 
-
 def no_deeper(rx: float, ry: float, x: float, y: float,
               others: list[tuple[float, float, float]],
               table: tuple[float, float, float, float]) -> tuple[float, float]:
@@ -175,6 +174,7 @@ def no_deeper(rx: float, ry: float, x: float, y: float,
         if not moved or len(others) < 2:
             break
     return clamp_to_table(x, y, table)
+
 
 LEAD = 1.0     # the main's way read ahead: LEAD x the steps a character needs to leave its disc
 
