@@ -107,7 +107,7 @@ SCHEMA = Record({
                             doc="time constant of a coasting puck's fading velocity"),
     "reacquire_step_m": Number(0.01, lo=0.0001, hi=1.0,
                                doc="most the smoothed pose moves per frame toward a puck "
-                                   "that reappears, metres"),
+                                   "that reappears, until read again where it lies, metres"),
     "reacquire_step_rad": Number(0.2, lo=0.001, hi=3.2, doc="and its heading, radians"),
     "gate_m": Number(0.06, lo=0.001, hi=10.0,
                      doc="a reading farther than this (plus max_speed times the time since "
