@@ -49,8 +49,8 @@ class TrackerSettings:
     ``reacquire_step_m``/``reacquire_step_rad``: the most the smoothed pose moves per update
     toward a puck that reappears, until a second reading confirms it. ``gate_m``,
     ``max_speed``: outlier gate radius ``gate_m + max_speed * (time since seen)``;
-    ``confirm_frames``: consistent far sightings
-    that relocate a puck. ``velocity_cutoff_hz``: low-pass of the velocity estimate.
+    ``confirm_frames``: consistent far sightings that relocate a puck.
+    ``velocity_cutoff_hz``: low-pass of the velocity estimate.
     ``stale_s``: a puck whose source has delivered nothing for that long is coasting.
     """
 
