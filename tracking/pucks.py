@@ -264,8 +264,9 @@ class PuckTracker:
         # reading alone moves it as before (none of 4,198 readings among hands was false).
         # Confirming a moving puck too (a hand over a 0.5 m/s puck: 13 readings -> 1, overall
         # p95 62 -> 16 mm at 60 Hz, 104 -> 49 mm at 30 Hz) made pucks read in 8-11% of frames
-        # (13 mm blur, 60 Hz) worse: coasting on from the reading overshoots the circle, overall
-        # p95 188 -> 198 and 186 -> 197 mm, nine seeds pooled.
+        # (12-13 mm blur, 60 Hz) worse: coasting on from the reading overshoots the circle,
+        # overall p95 188 -> 198 and 186 -> 197 mm, nine seeds pooled; confirmed only after
+        # 3 or 4 readings in a row, still 6-7 figures worse (30 Hz hand, p95 113.2 -> 113.3).
         confirmed = relocated or (tr.reacquiring and not returning and 0.0 < dt <= CONFIRM_GAP_S
                                   and math.hypot(meas[0] - old[0], meas[1] - old[1])
                                   <= STILL_SPEED * u * dt)
