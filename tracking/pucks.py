@@ -12,7 +12,8 @@ Per marker id one track. Each update:
    constant velocity and reported ``coasting`` for up to ``coast_s``, then dropped. A hidden puck
    is never ``seen``. When it comes back, its measured pose (``raw_*``) is reported at once and
    its smoothed pose (``x``, ``y``, ``angle``) moves at most ``reacquire_step_m`` per update
-   toward it;
+   toward it, until a second reading confirms it: the next, within ``CONFIRM_GAP_S`` at the
+   same place (a puck put down), or a relocation. Then it is shown where it is measured;
 4. velocity (``vx``, ``vy``) and angular velocity (``omega``): the measurement's own when its
    source measured them (a TUIO sender's), else estimated from the positions, low-passed.
 
@@ -33,6 +34,8 @@ from tracking.filters import one_euro_floats, scale_beta
 
 MAX_OMEGA = 8.0 * math.pi   # rad/s: 4 turns a second, faster than a hand turns a puck
 SPARSE_GAP_S = 0.2  # s: a puck seen again this soon is one track, seen sparsely (motion blur)
+CONFIRM_GAP_S = 0.07  # s: a second reading this soon after a return confirms it (2 frames at 30 Hz)
+STILL_SPEED = 0.05  # m/s: a puck moving slower between two readings is lying still
 
 
 @dataclass(frozen=True)
@@ -44,9 +47,10 @@ class TrackerSettings:
     False reports the measured pose as the puck's pose (no filter). ``coast_s``: how long a lost
     puck is predicted; ``coast_decay_s``: time constant of its fading velocity.
     ``reacquire_step_m``/``reacquire_step_rad``: the most the smoothed pose moves per update
-    toward a puck that reappears. ``gate_m``, ``max_speed``: outlier gate radius
-    ``gate_m + max_speed * (time since seen)``; ``confirm_frames``: consistent far sightings
-    that relocate a puck. ``velocity_cutoff_hz``: low-pass of the velocity estimate.
+    toward a puck that reappears, until a second reading confirms it. ``gate_m``,
+    ``max_speed``: outlier gate radius ``gate_m + max_speed * (time since seen)``;
+    ``confirm_frames``: consistent far sightings that relocate a puck.
+    ``velocity_cutoff_hz``: low-pass of the velocity estimate.
     ``stale_s``: a puck whose source has delivered nothing for that long is coasting.
     """
 
@@ -54,10 +58,13 @@ class TrackerSettings:
     beta: float = 40.0
     d_cutoff: float = 0.5
     angle_min_cutoff: float = 0.3
-    # A turning puck's heading lags by up to 1 / (2 pi angle_beta) rad (4.6 deg): spinning in
-    # place at 1-4 turns a second, 30/60 Hz, shown heading median 3.1-4.5, p95 6.5-11.8 deg
-    # (raw 0.1-0.2). angle_beta 6: median 1.4-1.7, p95 3.3-4.7 deg, but a still puck's heading
-    # SD rises in 4 of 6 runs (0.0018 -> 0.0019, 0.0023 -> 0.0025 deg; one falls).
+    # A turning puck's heading lags about 1 / (2 pi angle_beta) rad. Rendered frames, pucks
+    # turning 0.5-4 turns a second, median lag at 60 / 30 Hz for angle_beta 2: 2.4-3.9 / 2.9-4.2
+    # deg; 4: 1.5-2.1 / 1.7-2.2; 6: 1.1-1.5 / 1.2-1.5; 8: 0.9-1.1 / 1.0-1.2. But the shown
+    # heading's frame-to-frame jitter (SD of its error's second difference) on a puck turning
+    # 0.05 turns a second grows with it: 0.053 / 0.138, 0.069 / 0.181, 0.079 / 0.209, 0.087 /
+    # 0.230 deg; a still puck's SD 0.0037 / 0.0080, 0.0037 / 0.0081, 0.0039 / 0.0082, 0.0042 /
+    # 0.0084 deg. No beta lowers the lag without raising that jitter: kept at 2.
     angle_beta: float = 2.0
     smooth: bool = True
     coast_s: float = 0.5
@@ -251,7 +258,19 @@ class PuckTracker:
         sparse = (tr.state == "coasting" and not relocated and dt <= SPARSE_GAP_S
                   and math.hypot(*tr.chord) > 0.05 * u)
         returning = (tr.state == "coasting" or relocated) and not sparse
-        if sparse and s.smooth:
+        # A return confirmed by a second reading is shown where it is read. Rendered frames, a
+        # puck lifted for 0.3 s and put back 0.14 m away: within 10 mm from its second reading,
+        # read every frame (else 12-13 readings, 1 cm each) or every other (else 4-5). One
+        # reading alone moves it as before (none of 4,198 readings among hands was false).
+        # Confirming a moving puck too (a hand over a 0.5 m/s puck: 13 readings -> 1, overall
+        # p95 62 -> 16 mm at 60 Hz, 104 -> 49 mm at 30 Hz) made pucks read in 8-11% of frames
+        # (12-13 mm blur, 60 Hz) worse: coasting on from the reading overshoots the circle,
+        # overall p95 188 -> 198 and 186 -> 197 mm, nine seeds pooled; confirmed only after
+        # 3 or 4 readings in a row, still 6-7 figures worse (30 Hz hand, p95 113.2 -> 113.3).
+        confirmed = relocated or (tr.reacquiring and not returning and 0.0 < dt <= CONFIRM_GAP_S
+                                  and math.hypot(meas[0] - old[0], meas[1] - old[1])
+                                  <= STILL_SPEED * u * dt)
+        if sparse and s.smooth and not confirmed:
             tr.pos, tr.ang = tr.out[:2], tr.out[2:]
             tr.reacquiring = False
         if dt > 0.0:
@@ -278,9 +297,9 @@ class PuckTracker:
         _take_measured_velocity(tr, m, s.max_speed * u)
         if not sparse:
             tr.chord = (tr.vx, tr.vy)
-        if returning:
+        if returning or confirmed:
             tr.pos, tr.dpos, tr.ang, tr.dang = meas[:2], [0.0, 0.0], meas[2:], [0.0]
-            tr.reacquiring = True
+            tr.reacquiring = not confirmed
             target = list(meas)
         elif s.smooth and dt > 0.0:
             if sparse:  # the prior is the prediction shown at coast_t

@@ -99,6 +99,8 @@ SCHEMA = Record({
                        lo=0.001, hi=100.0, doc="One Euro speed low-pass cutoff, Hz"),
     "angle_min_cutoff": Number(0.3, unit="Hz",
                                lo=0.001, hi=100.0, doc="heading: minimum cutoff, Hz"),
+    # 4-8 cut the turning lag (median 2.4-4.2 -> 0.9-2.2 deg) but raise a slowly turning puck's
+    # heading jitter 31-77% (figures at tracking.pucks.TrackerSettings.angle_beta)
     "angle_beta": Number(2.0, lo=0.0, hi=10000.0, doc="heading: Hz per rad/s"),
     # Occlusion and outliers
     "coast_s": Number(0.5, lo=0.0, hi=60.0,
@@ -107,7 +109,7 @@ SCHEMA = Record({
                             doc="time constant of a coasting puck's fading velocity"),
     "reacquire_step_m": Number(0.01, lo=0.0001, hi=1.0,
                                doc="most the smoothed pose moves per frame toward a puck "
-                                   "that reappears, metres"),
+                                   "that reappears, until read again where it lies, metres"),
     "reacquire_step_rad": Number(0.2, lo=0.001, hi=3.2, doc="and its heading, radians"),
     "gate_m": Number(0.06, lo=0.001, hi=10.0,
                      doc="a reading farther than this (plus max_speed times the time since "
