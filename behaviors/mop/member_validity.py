@@ -72,10 +72,10 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         hidden[i] = before[off + c] > 0.0 and abs(turn[i]) < unturned
 
 
-@compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,
-                     _F2, numba.float64), *_CALLS_INTO)
-def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads, states,
-          ti, mean, tc, mc, floats, limit) -> None:
+@compiled(numba.void(_B1, _B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2,
+                     _F2, _F2, numba.float64), *_CALLS_INTO)
+def takes(present, rest, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads,
+          states, ti, mean, tc, mc, floats, limit) -> None:
     """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
     ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
     them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
@@ -102,7 +102,7 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
         if not present[i]:
             continue
         n = taken_n[i]
-        if has_anchor[i]:
+        if has_anchor[i] and not rest[i]:
             if n == taken.shape[1]:
                 for r in range(n - 1):
                     for c in range(d):

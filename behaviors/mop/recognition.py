@@ -114,7 +114,6 @@ class Recognition:
         ``offset`` on."""
         k = len(self.names)
         b = self.bank
-        self._remember_take(x)
         mean = forward.mean[offset:offset + k]
         g = b.starts + np.minimum(mean, b.lengths - 1.0)
         gi = np.minimum(g.astype(np.intp), b.starts + b.lengths - 2)
@@ -124,6 +123,7 @@ class Recognition:
         # resting over this sample and the ones before (the samples _still will keep): once,
         # for the holds here and for the stall rule after the push (_conclude)
         rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
+        self._remember_take(x, rest)
         if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
             if rest and self.invariance == "scale":
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units,

@@ -412,10 +412,11 @@ class ShapeLead:
         return broad_rivals(bi, self._jacobian + self.dim * np.log(self._size), open_, progress,
                             self._gone, self._shape, LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
-    def _remember_take(self, x: np.ndarray) -> None:
-        """Keep sample ``x`` (from the anchor; none before there is one) among the last
-        :data:`TAKE_SAMPLES` of the gesture (:meth:`_fits_take`)."""
-        if self._anchor is not None:
+    def _remember_take(self, x: np.ndarray, rests: bool) -> None:
+        """Keep sample ``x`` (from the anchor; none before there is one, nor while the
+        performer ``rests``) among the last :data:`TAKE_SAMPLES` of the gesture
+        (:meth:`_fits_take`)."""
+        if self._anchor is not None and not rests:
             self._taken.append(x - self._anchor)
             del self._taken[:-TAKE_SAMPLES]
 
