@@ -20,7 +20,8 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
 - unrelated: a diagonal line, a triangle, a spiral, an aimless wander, a still puck and every
   template mirrored (x -> -x, when that differs from every template: by 3 cm at equal phase and
   by ``bench.motions.ALIGNED_GAP_M`` aligned in time, so that no template performed with its
-  own holds counts), with 1, 6 and 20 templates loaded;
+  own holds counts), with 1, 6 and 20 templates loaded; and a straight stroke along each loaded
+  template's own first direction (``bench/follow_strokes.py``, figures of its own);
 - after: each of the six gestures, then with no rest an unrelated stroke (diagonal, triangle,
   spiral, wander at 0.7-1.4x): the valid share over the stroke; and each stroke, then with no
   rest each gesture: the share recognised while drawn (``bench/follow_after.py``).
@@ -201,6 +202,20 @@ def performs(path: np.ndarray, p: float, other: np.ndarray, memo: dict, key: tup
     return memo[key]
 
 
+def motion_shares(f: ActionFollower | None, path: np.ndarray, x: np.ndarray, prog: np.ndarray,
+                  loaded: Mapping[str, np.ndarray], memo: dict, key: tuple) -> tuple[float, float]:
+    """(valid share, told valid share: :func:`unrelated`) of the performance ``x`` (true
+    progress ``prog``) of the unrelated ``path`` followed by ``f`` with ``loaded``."""
+    states = run(f, x)
+    # before the motion: nothing performed; after it: all of it
+    p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
+                 np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
+    told = np.mean([s.valid and not performs(path, float(q), loaded[s.best], memo,
+                                             (*key, s.best))
+                    for s, q in zip(states, p)]) if f is not None else 0.0
+    return float(np.mean([s.valid for s in states])), float(told)
+
+
 def unrelated(factory: Factory, templates: dict[str, np.ndarray],
               rng: np.random.Generator) -> dict[str, float]:
     """Valid share on motions that are none of the templates (``unrelated_..._valid_share``),
@@ -225,15 +240,9 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
                 x, prog = performance(rng, path, scale)
                 if name in copies:   # another template performed: drawn, not counted
                     continue
-                states = run(f, x)
-                vals.append(np.mean([s.valid for s in states]))
-                # before the motion: nothing performed; after it: all of it
-                p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
-                             np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
-                told_vals.append(np.mean([
-                    s.valid
-                    and not performs(path, float(q), loaded[s.best], memo, (k, name, s.best))
-                    for s, q in zip(states, p)]) if f is not None else 0.0)
+                valid, told_valid = motion_shares(f, path, x, prog, loaded, memo, (k, name))
+                vals.append(valid)
+                told_vals.append(told_valid)
             if name in copies:
                 continue
             shares[name], told[name] = float(np.mean(vals)), float(np.mean(told_vals))
@@ -268,6 +277,7 @@ TARGETS: dict[str, tuple[str, float]] = {
     "sized_0.7_1.4_progress_rmse_median": ("<=", 0.05),
     "unrelated_valid_share_max": ("<=", 0.1),
     "unrelated_told_valid_share_max": ("<=", 0.1),
+    "unrelated_own_stroke_told_valid_share_max": ("<=", 0.1),
     "after_valid_share_max": ("<=", 0.1),
     "after_valid_share_max_unambiguous": ("<=", 0.1),
     "hold_progress_rmse_max": ("<=", 0.06),
@@ -282,6 +292,7 @@ TARGETS: dict[str, tuple[str, float]] = {
 
 def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]:
     from bench.follow_after import after, stroke_first
+    from bench.follow_strokes import strokes
     from bench.follow_pauses import pauses
     from bench.follow_shapes import shapes
     rng = np.random.default_rng(seed)
@@ -293,7 +304,10 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
              "sequences": [lambda f: sequences(f, gestures, rng, run, key="sequence_6_gestures"),
                            lambda f: sequences(f, everything, rng, run,
                                                key="sequence_20_templates")],
-             "unrelated": [lambda f: unrelated(f, everything, rng)],
+             # the own strokes with a seed of their own: the sections after draw as before
+             "unrelated": [lambda f: unrelated(f, everything, rng),
+                           lambda f: strokes(f, everything, np.random.default_rng([seed, 2]),
+                                             motion_shares)],
              # last, so the other sections draw what they drew before it was added
              "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG),
                        # a seed of its own: the sections after it draw what they drew before
