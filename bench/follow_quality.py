@@ -216,22 +216,31 @@ def motion_shares(f: ActionFollower | None, path: np.ndarray, x: np.ndarray, pro
     return float(np.mean([s.valid for s in states])), float(told)
 
 
-def unrelated(factory: Factory, templates: dict[str, np.ndarray],
-              rng: np.random.Generator) -> dict[str, float]:
+def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator,
+              strokes_rng: np.random.Generator) -> dict[str, float]:
     """Valid share on motions that are none of the templates (``unrelated_..._valid_share``),
     and the same counting only ticks where the action driving is one the motion so far does not
     partially perform (``unrelated_..._told_valid_share``, :func:`performs`): a performer drawing
     a stroke that *is* the start of an action expects its character to follow, whatever comes
-    after."""
+    after. Then the same of straight strokes along each template's own first direction
+    (``unrelated_own_stroke_...``, drawn with ``strokes_rng``: :mod:`bench.follow_strokes`)."""
+    from bench.follow_strokes import stroke_shares
     out = {}
     names = list(templates)
     worst_all, told_worst = 0.0, 0.0
     every: list[float] = []
     told_every: list[float] = []
     memo: dict = {}
+    own: list[float] = []
+    own_told: list[float] = []
     for k in (1, 6, 20):
         loaded = {n: templates[n] for n in names[:k]}
         f = factory(loaded)
+        valid, told_valid = stroke_shares(f, loaded, strokes_rng, memo, k, motion_shares)
+        out[f"unrelated_{k}_templates_own_stroke_valid_share_max"] = max(valid.values())
+        out[f"unrelated_{k}_templates_own_stroke_told_valid_share_max"] = max(told_valid.values())
+        own += valid.values()
+        own_told += told_valid.values()
         shares, told = {}, {}
         copies = mirror_copies(loaded)
         for name, path in unrelated_motions(rng, loaded, copies=True).items():
@@ -267,6 +276,10 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
     # what the issue's target counts: valid where the motion so far is no start of the action
     out["unrelated_told_valid_share_max"] = told_worst
     out["unrelated_told_valid_share_mean"] = float(np.mean(told_every))
+    out["unrelated_own_stroke_valid_share_max"] = max(own)
+    out["unrelated_own_stroke_valid_share_mean"] = float(np.mean(own))
+    out["unrelated_own_stroke_told_valid_share_max"] = max(own_told)
+    out["unrelated_own_stroke_told_valid_share_mean"] = float(np.mean(own_told))
     return out
 
 
@@ -292,7 +305,6 @@ TARGETS: dict[str, tuple[str, float]] = {
 
 def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]:
     from bench.follow_after import after, stroke_first
-    from bench.follow_strokes import strokes
     from bench.follow_pauses import pauses
     from bench.follow_shapes import shapes
     rng = np.random.default_rng(seed)
@@ -304,10 +316,9 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
              "sequences": [lambda f: sequences(f, gestures, rng, run, key="sequence_6_gestures"),
                            lambda f: sequences(f, everything, rng, run,
                                                key="sequence_20_templates")],
-             # the own strokes with a seed of their own: the sections after draw as before
-             "unrelated": [lambda f: unrelated(f, everything, rng),
-                           lambda f: strokes(f, everything, np.random.default_rng([seed, 2]),
-                                             motion_shares)],
+             # (the own strokes with a seed of their own: the sections after draw as before)
+             "unrelated": [lambda f: unrelated(f, everything, rng,
+                                               np.random.default_rng([seed, 2]))],
              # last, so the other sections draw what they drew before it was added
              "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG),
                        # a seed of its own: the sections after it draw what they drew before

@@ -10,10 +10,11 @@ start to :data:`FIRST` of its progress, drawn at 0.7, 1.0 and 1.4x as the sectio
 motions (time-warped, still before and after, tracking jitter; a seed of its own, so the other
 sections draw what they drew before).
 
-Figures (``unrelated_own_stroke_...``): the share of ticks valid, the largest over the strokes
-(each averaged over its three sizes) and the mean, and the same counting only ticks where the
-stroke so far is no start of the action driving (``told``, :func:`bench.follow_quality.performs`):
-while the stroke is still a template's start, its character may follow it.
+Figures (``unrelated_own_stroke_...``, :func:`bench.follow_quality.unrelated`): the share of
+ticks valid, the largest over the strokes (each averaged over its three sizes) and the mean,
+and the same counting only ticks where the stroke so far is no start of the action driving
+(``told``, :func:`bench.follow_quality.performs`): while the stroke is still a template's
+start, its character may follow it.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ import numpy as np
 
 from bench.motions import at_phase, performance
 
-#: A stroke's length (metres), as the section's diagonal (0.12 m along each axis: 0.17 m).
+#: A stroke's length (metres; the section's diagonal runs 0.12 m along each axis).
 STROKE_M = 0.12
 #: A template's first direction: the chord from its start to this share of its progress.
 FIRST = 0.2
@@ -46,31 +47,16 @@ def own_strokes(templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
     return out
 
 
-def strokes(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.random.Generator,
-            shares: Callable) -> dict[str, float]:
-    """The ``unrelated_own_stroke_`` figures (module docstring) with the first 1, 6 and 20
-    ``templates`` loaded; ``shares(f, path, x, prog, loaded, memo, key)`` is
-    ``bench.follow_quality.motion_shares`` (valid and told shares of one performance)."""
-    out: dict[str, float] = {}
-    names = list(templates)
-    every: list[float] = []
-    told_every: list[float] = []
-    memo: dict = {}
-    for k in (1, 6, 20):
-        loaded = {n: templates[n] for n in names[:k]}
-        f = factory(loaded)
-        valid, told = {}, {}
-        for name, path in own_strokes(loaded).items():
-            both = [shares(f, path, *performance(rng, path, scale), loaded, memo, (k, name))
-                    for scale in SCALES]
-            valid[name] = float(np.mean([v for v, _ in both]))
-            told[name] = float(np.mean([t for _, t in both]))
-        out[f"unrelated_{k}_templates_own_stroke_valid_share_max"] = max(valid.values())
-        out[f"unrelated_{k}_templates_own_stroke_told_valid_share_max"] = max(told.values())
-        every += valid.values()
-        told_every += told.values()
-    out["unrelated_own_stroke_valid_share_max"] = max(every)
-    out["unrelated_own_stroke_valid_share_mean"] = float(np.mean(every))
-    out["unrelated_own_stroke_told_valid_share_max"] = max(told_every)
-    out["unrelated_own_stroke_told_valid_share_mean"] = float(np.mean(told_every))
-    return out
+def stroke_shares(f, loaded: Mapping[str, np.ndarray], rng: np.random.Generator, memo: dict,
+                  k: int, shares: Callable) -> tuple[dict[str, float], dict[str, float]]:
+    """Each own stroke of the ``loaded`` templates (``k`` of them) followed by ``f`` at
+    :data:`SCALES`: ({stroke: valid share}, {stroke: told valid share}), each the mean over
+    the sizes; ``shares(f, path, x, prog, loaded, memo, key)`` is
+    ``bench.follow_quality.motion_shares``."""
+    valid, told = {}, {}
+    for name, path in own_strokes(loaded).items():
+        both = [shares(f, path, *performance(rng, path, scale), loaded, memo, (k, name))
+                for scale in SCALES]
+        valid[name] = float(np.mean([v for v, _ in both]))
+        told[name] = float(np.mean([t for _, t in both]))
+    return valid, told
