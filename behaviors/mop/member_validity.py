@@ -78,11 +78,11 @@ def takes(present, rest, has_anchor, x, anchor, taken, taken_n, bounds, best, ac
           states, ti, mean, tc, mc, floats, limit) -> None:
     """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
     ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
-    them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
-    conditions, :meth:`ShapeLead._fits_take`, for each whose new ``best`` leads (not
-    ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
-    "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
-    :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
+    them, oldest first, the oldest out when full; at ``rest``, only while not full); then the
+    last of :meth:`ShapeLead._leads`' conditions, :meth:`ShapeLead._fits_take`, for each
+    whose new ``best`` leads (not ``acquired``): whether those samples fit its path within
+    ``limit`` (``leads``, in place; "scale" invariance only; ``states``, ``ti``, ``tc``,
+    ``mc`` laid out as :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
     ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
     refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
     a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
@@ -102,7 +102,7 @@ def takes(present, rest, has_anchor, x, anchor, taken, taken_n, bounds, best, ac
         if not present[i]:
             continue
         n = taken_n[i]
-        if has_anchor[i] and not rest[i]:
+        if has_anchor[i] and not (rest[i] and n == taken.shape[1]):
             if n == taken.shape[1]:
                 for r in range(n - 1):
                     for c in range(d):

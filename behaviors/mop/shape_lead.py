@@ -413,10 +413,10 @@ class ShapeLead:
                             self._gone, self._shape, LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
     def _remember_take(self, x: np.ndarray, rests: bool) -> None:
-        """Keep sample ``x`` (from the anchor; none before there is one, nor while the
-        performer ``rests``) among the last :data:`TAKE_SAMPLES` of the gesture
-        (:meth:`_fits_take`)."""
-        if self._anchor is not None and not rests:
+        """Keep sample ``x`` (from the anchor; none before there is one) among the last
+        :data:`TAKE_SAMPLES` of the gesture (:meth:`_fits_take`); while the performer
+        ``rests``, only while there are fewer: a rest pushes out none of the motion before it."""
+        if self._anchor is not None and not (rests and len(self._taken) >= TAKE_SAMPLES):
             self._taken.append(x - self._anchor)
             del self._taken[:-TAKE_SAMPLES]
 
