@@ -82,10 +82,11 @@ def takes(present, rest, has_anchor, x, anchor, taken, taken_n, bounds, best, ac
     last of :meth:`ShapeLead._leads`' conditions, :meth:`ShapeLead._fits_take`, for each
     whose new ``best`` leads (not ``acquired``): whether those samples fit its path within
     ``limit`` (``leads``, in place; "scale" invariance only; ``states``, ``ti``, ``tc``,
-    ``mc`` laid out as :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
-    ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
-    refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
-    a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
+    ``mc`` laid out as :func:`behaviors.mop.group_kernel.update_templates` reads them,
+    ``mean`` the forward's, ``floats`` the per-template state of
+    :data:`~behaviors.mop.group_layout.FLOATS`); a take refused sizes its template where
+    :func:`~behaviors.mop.shape_lead.size_of_refused` finds a size
+    (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
 
     Compiled here rather than done by the group's Python around its compiled passes (fancy
     indexing over the members and a call through the follower, its Python and a copy of the
