@@ -415,8 +415,10 @@ class ShapeLead:
     def _remember_take(self, x: np.ndarray, rests: bool) -> None:
         """Keep sample ``x`` (from the anchor; none before there is one) among the last
         :data:`TAKE_SAMPLES` of the gesture (:meth:`_fits_take`); while the performer
-        ``rests``, only while there are fewer: a rest pushes out none of the motion before it."""
-        if self._anchor is not None and not (rests and len(self._taken) >= TAKE_SAMPLES):
+        ``rests`` and no action has driven in the attempt, only while there are fewer: such a
+        rest pushes out none of the motion before it."""
+        if self._anchor is not None and not (rests and self._drive_k < 0
+                                             and len(self._taken) >= TAKE_SAMPLES):
             self._taken.append(x - self._anchor)
             del self._taken[:-TAKE_SAMPLES]
 
