@@ -72,22 +72,20 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         hidden[i] = before[off + c] > 0.0 and abs(turn[i]) < unturned
 
 
-@compiled(numba.void(_B1, _B1, _I1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1,
-                     _F2, _F2, _F2, numba.float64), *_CALLS_INTO)
-def takes(present, rest, drive_k, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired,
-          leads, states, ti, mean, tc, mc, floats, limit) -> None:
+@compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,
+                     _F2, numba.float64), *_CALLS_INTO)
+def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads, states,
+          ti, mean, tc, mc, floats, limit) -> None:
     """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
     ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
-    them, oldest first, the oldest out when full; at ``rest`` with no action driven in the
-    attempt, ``drive_k`` -1, only while not full); then the
-    last of :meth:`ShapeLead._leads`' conditions, :meth:`ShapeLead._fits_take`, for each
-    whose new ``best`` leads (not ``acquired``): whether those samples fit its path within
-    ``limit`` (``leads``, in place; "scale" invariance only; ``states``, ``ti``, ``tc``,
-    ``mc`` laid out as :func:`behaviors.mop.group_kernel.update_templates` reads them,
-    ``mean`` the forward's, ``floats`` the per-template state of
-    :data:`~behaviors.mop.group_layout.FLOATS`); a take refused sizes its template where
-    :func:`~behaviors.mop.shape_lead.size_of_refused` finds a size
-    (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
+    them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
+    conditions, :meth:`ShapeLead._fits_take`, for each whose new ``best`` leads (not
+    ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
+    "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
+    :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
+    ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
+    refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
+    a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
 
     Compiled here rather than done by the group's Python around its compiled passes (fancy
     indexing over the members and a call through the follower, its Python and a copy of the
@@ -104,7 +102,7 @@ def takes(present, rest, drive_k, has_anchor, x, anchor, taken, taken_n, bounds,
         if not present[i]:
             continue
         n = taken_n[i]
-        if has_anchor[i] and not (rest[i] and drive_k[i] < 0 and n == taken.shape[1]):
+        if has_anchor[i]:
             if n == taken.shape[1]:
                 for r in range(n - 1):
                     for c in range(d):

@@ -223,9 +223,9 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     # (member_validity: takes, tempo, unbegun, still_unbegun; ``tc``, ``mc``, ``taken``,
     # ``take_limit``: the take's; ``lengths`` (K,), ``tempo_x``, ``tempo_g``, ``onset``: the
     # tempo's). See member_validity.takes for what this saves
-    member_validity.takes(present, m_flags[4], ints[10], m_flags[9], vectors[0], vectors[1],
-                          taken, ints[13], ints[0], ints[3], ints[6], m_flags[2], states, ti, mean,
-                          tc, mc, floats, take_limit)
+    member_validity.takes(present, m_flags[9], vectors[0], vectors[1], taken, ints[13], ints[0],
+                          ints[3], ints[6], m_flags[2], states, ti, mean, tc, mc, floats,
+                          take_limit)
     overran = member_validity.overruns(states, ti, mean, tc, mc, vectors[0], vectors[1], present,
                                        m_flags[10], ints[0], ints[3], ints[14], ints[15],
                                        tempo_x, tempo_g, tempo_s, size, ints[17])

@@ -412,13 +412,10 @@ class ShapeLead:
         return broad_rivals(bi, self._jacobian + self.dim * np.log(self._size), open_, progress,
                             self._gone, self._shape, LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
-    def _remember_take(self, x: np.ndarray, rests: bool) -> None:
+    def _remember_take(self, x: np.ndarray) -> None:
         """Keep sample ``x`` (from the anchor; none before there is one) among the last
-        :data:`TAKE_SAMPLES` of the gesture (:meth:`_fits_take`); while the performer
-        ``rests`` and no action has driven in the attempt, only while there are fewer: such a
-        rest pushes out none of the motion before it."""
-        if self._anchor is not None and not (rests and self._drive_k < 0
-                                             and len(self._taken) >= TAKE_SAMPLES):
+        :data:`TAKE_SAMPLES` of the gesture (:meth:`_fits_take`)."""
+        if self._anchor is not None:
             self._taken.append(x - self._anchor)
             del self._taken[:-TAKE_SAMPLES]
 

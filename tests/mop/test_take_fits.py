@@ -80,21 +80,3 @@ def test_a_group_takes_the_sizes_of_refused_takes_as_its_followers_alone(gesture
     alone = [puck_follower(gestures) for _ in streams]
     group = FollowerGroup([puck_follower(gestures) for _ in streams])
     assert _step_both(alone, group, streams) >= 115
-
-
-def test_a_rest_after_a_path_no_template_fits_takes_no_action(gestures):
-    # the mirrored square (0.7x) ends on the roll wrist's path; as the performer rested there,
-    # the take's last samples filled with the rest and fitted it: a still puck drove the roll
-    # wrist 38 ticks, from 15 ticks into the rest on (a rest keeps no sample for the take:
-    # shape_lead.ShapeLead._remember_take). A square drawn and rested on drives as before; the
-    # group as its followers alone (measured: 0 and 52 valid ticks)
-    from bench.follow_quality import puck_follower
-    from bench.motions import mocap_templates, performance
-    from tests.mop.helpers import group_beside_alone
-    templates = {**gestures, **mocap_templates(joints=(("roll", "right_wrist"),))}
-    mirrored = performance(np.random.default_rng(1), gestures["square"] * [-1.0, 1.0], 0.7)[0]
-    square = performance(np.random.default_rng(2), gestures["square"], 1.0)[0]
-    n = max(len(mirrored), len(square)) + 30
-    streams = [np.concatenate([x, np.repeat(x[-1:], n - len(x), 0)]) for x in (mirrored, square)]
-    valid = group_beside_alone(lambda: puck_follower(templates), streams)
-    assert valid[0] == 0 and valid[1] >= 50, valid
