@@ -14,7 +14,10 @@ Figures (``unrelated_own_stroke_...``, :func:`bench.follow_quality.unrelated`): 
 ticks valid, the largest over the strokes (each averaged over its three sizes) and the mean,
 and the same counting only ticks where the stroke so far is no start of the action driving
 (``told``, :func:`bench.follow_quality.performs`): while the stroke is still a template's
-start, its character may follow it.
+start, its character may follow it. Measured (``bench/follow_quality.py``): valid share max
+0.247, told 0.098 (held out 0.517, told 0.116: a stroke along the punch ankle's own 15 cm first
+stroke drives it 0.51-0.58 of its ticks on seed 104); ``bench/follow_seeds.py --sections=unrelated``
+on seeds 101-112: told worst 0.219 (104), mean 0.149.
 """
 
 from __future__ import annotations
