@@ -20,7 +20,8 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
 - unrelated: a diagonal line, a triangle, a spiral, an aimless wander, a still puck and every
   template mirrored (x -> -x, when that differs from every template: by 3 cm at equal phase and
   by ``bench.motions.ALIGNED_GAP_M`` aligned in time, so that no template performed with its
-  own holds counts), with 1, 6 and 20 templates loaded;
+  own holds counts), with 1, 6 and 20 templates loaded; and a straight stroke along each loaded
+  template's own first direction (``bench/follow_strokes.py``, figures of its own);
 - after: each of the six gestures, then with no rest an unrelated stroke (diagonal, triangle,
   spiral, wander at 0.7-1.4x): the valid share over the stroke; and each stroke, then with no
   rest each gesture: the share recognised while drawn (``bench/follow_after.py``).
@@ -203,22 +204,45 @@ def performs(path: np.ndarray, p: float, other: np.ndarray, memo: dict, key: tup
     return memo[key]
 
 
-def unrelated(factory: Factory, templates: dict[str, np.ndarray],
-              rng: np.random.Generator) -> dict[str, float]:
+def motion_shares(f: ActionFollower | None, path: np.ndarray, x: np.ndarray, prog: np.ndarray,
+                  loaded: Mapping[str, np.ndarray], memo: dict, key: tuple) -> tuple[float, float]:
+    """(valid share, told valid share: :func:`unrelated`) of the performance ``x`` (true
+    progress ``prog``) of the unrelated ``path`` followed by ``f`` with ``loaded``."""
+    states = run(f, x)
+    # before the motion: nothing performed; after it: all of it
+    p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
+                 np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
+    told = np.mean([s.valid and not performs(path, float(q), loaded[s.best], memo,
+                                             (*key, s.best))
+                    for s, q in zip(states, p)]) if f is not None else 0.0
+    return float(np.mean([s.valid for s in states])), float(told)
+
+
+def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator,
+              strokes_rng: np.random.Generator) -> dict[str, float]:
     """Valid share on motions that are none of the templates (``unrelated_..._valid_share``),
     and the same counting only ticks where the action driving is one the motion so far does not
     partially perform (``unrelated_..._told_valid_share``, :func:`performs`): a performer drawing
     a stroke that *is* the start of an action expects its character to follow, whatever comes
-    after."""
+    after. Then the same of straight strokes along each template's own first direction
+    (``unrelated_own_stroke_...``, drawn with ``strokes_rng``: :mod:`bench.follow_strokes`)."""
+    from bench.follow_strokes import stroke_shares
     out = {}
     names = list(templates)
     worst_all, told_worst = 0.0, 0.0
     every: list[float] = []
     told_every: list[float] = []
     memo: dict = {}
+    own: list[float] = []
+    own_told: list[float] = []
     for k in (1, 6, 20):
         loaded = {n: templates[n] for n in names[:k]}
         f = factory(loaded)
+        valid, told_valid = stroke_shares(f, loaded, strokes_rng, memo, k, motion_shares)
+        out[f"unrelated_{k}_templates_own_stroke_valid_share_max"] = max(valid.values())
+        out[f"unrelated_{k}_templates_own_stroke_told_valid_share_max"] = max(told_valid.values())
+        own += valid.values()
+        own_told += told_valid.values()
         shares, told = {}, {}
         copies = mirror_copies(loaded)
         for name, path in unrelated_motions(rng, loaded, copies=True).items():
@@ -227,15 +251,9 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
                 x, prog = performance(rng, path, scale)
                 if name in copies:   # another template performed: drawn, not counted
                     continue
-                states = run(f, x)
-                vals.append(np.mean([s.valid for s in states]))
-                # before the motion: nothing performed; after it: all of it
-                p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
-                             np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
-                told_vals.append(np.mean([
-                    s.valid
-                    and not performs(path, float(q), loaded[s.best], memo, (k, name, s.best))
-                    for s, q in zip(states, p)]) if f is not None else 0.0)
+                valid, told_valid = motion_shares(f, path, x, prog, loaded, memo, (k, name))
+                vals.append(valid)
+                told_vals.append(told_valid)
             if name in copies:
                 continue
             shares[name], told[name] = float(np.mean(vals)), float(np.mean(told_vals))
@@ -260,6 +278,10 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
     # what the issue's target counts: valid where the motion so far is no start of the action
     out["unrelated_told_valid_share_max"] = told_worst
     out["unrelated_told_valid_share_mean"] = float(np.mean(told_every))
+    out["unrelated_own_stroke_valid_share_max"] = max(own)
+    out["unrelated_own_stroke_valid_share_mean"] = float(np.mean(own))
+    out["unrelated_own_stroke_told_valid_share_max"] = max(own_told)
+    out["unrelated_own_stroke_told_valid_share_mean"] = float(np.mean(own_told))
     return out
 
 
@@ -270,6 +292,7 @@ TARGETS: dict[str, tuple[str, float]] = {
     "sized_0.7_1.4_progress_rmse_median": ("<=", 0.05),
     "unrelated_valid_share_max": ("<=", 0.1),
     "unrelated_told_valid_share_max": ("<=", 0.1),
+    "unrelated_own_stroke_told_valid_share_max": ("<=", 0.1),
     "after_valid_share_max": ("<=", 0.1),
     "after_valid_share_max_unambiguous": ("<=", 0.1),
     "hold_progress_rmse_max": ("<=", 0.06),
@@ -297,7 +320,9 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
              "sequences": [lambda f: sequences(f, gestures, rng, run, key="sequence_6_gestures"),
                            lambda f: sequences(f, everything, rng, run,
                                                key="sequence_20_templates")],
-             "unrelated": [lambda f: unrelated(f, everything, rng)],
+             # (the own strokes with a seed of their own: the sections after draw as before)
+             "unrelated": [lambda f: unrelated(f, everything, rng,
+                                               np.random.default_rng([seed, 2]))],
              # last, so the other sections draw what they drew before it was added
              "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG),
                        # a seed of its own: the sections after it draw what they drew before

@@ -114,6 +114,16 @@ class Recognition:
         ``offset`` on."""
         k = len(self.names)
         b = self.bank
+        # every sample joins the take's last samples (shape_lead._fits_take), a rest's too.
+        # Measured and not kept: in an attempt where nothing drove, a rest pushes none of the
+        # motion out of them (a still puck resting where held-out 103's mirrored square among
+        # twenty ended took the roll wrist once they held the rest alone). follow_seeds.py
+        # --sections=sized,unrelated,sequences: unrelated worst 101-106 0.1030 -> 0.0974 (103),
+        # 107-112 identical; follow_quality.py: unrelated mean 0.0101 -> 0.0099, held-out own
+        # strokes told max 0.116 -> 0.091; but held-out bent 10% 0.47255 -> 0.47216 (a bent crawl
+        # ankle whose own hold kept its older samples, taken a sample later). Without "nothing
+        # drove": a cartwheel's holds no longer helped its re-take at its end (106's twenty
+        # within 20% 0.25 -> 0.22); no rest sample at all: 104 sized 0.9099 -> 0.9070
         self._remember_take(x)
         mean = forward.mean[offset:offset + k]
         g = b.starts + np.minimum(mean, b.lengths - 1.0)
