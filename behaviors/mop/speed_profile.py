@@ -44,8 +44,9 @@ STALL_SAMPLES = 2
 KEEP = 0.95
 RECENT = 2
 EARLIER = 4
-#: ... which is at least this many sigma a sample (RMS per column; a rest keeps no speed).
-MOVED = 0.1
+#: ... which is at least this many sigma a sample (RMS per column): where the input crawls (a
+#: joint's slow stretch) its speed is mostly the jitter's and keeps no profile.
+MOVED = 0.5
 #: The samples back :func:`outpaces` reads (the tempo's ring keeps at least these).
 BACK = RECENT + EARLIER
 
