@@ -67,5 +67,6 @@ class Validity:
         x_recent = self._tempo_past[-speed_profile.RECENT][1]
         x_earlier = self._tempo_past[-speed_profile.BACK][1]
         return out or bool(speed_profile.outpaces(
-            b.means, lo, int(b.lengths[k]), 0, b.scale[k], x, x_recent, x_earlier,
+            b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+            self._first_z[k], self._anchor, x, x_recent, x_earlier,
             float(g[k] - lo), float(g_stall[k]), float(self._size[k]), self.sigma))

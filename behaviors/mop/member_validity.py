@@ -172,7 +172,8 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
         # (speed_profile.outpaces; not counted as an overrun)
         ss = (at[i] - speed_profile.STALL_SAMPLES) % w
         out[i] = out[i] or speed_profile.outpaces(
-            states[:, :d], start, length, off, tc[gb, sc0:sc0 + d], x[i],
+            states[:, :d], start, length, off, tc[gb, sc0:sc0 + d], tc[gb, uf0:uf0 + d],
+            tc[gb, co0:co0 + d], anchor[i], x[i],
             tempo_x[(at[i] - speed_profile.RECENT) % w, i],
             tempo_x[(at[i] - speed_profile.BACK) % w, i], min(mean[gb], length - 1.0),
             tempo_g[ss, gb], size[gb], math.sqrt(m[14] / m[0]))

@@ -16,7 +16,8 @@ So the best action is not shown while (:func:`outpaces`) its template slows at t
 state to under :data:`SLOW` of its speed :data:`SLOW_BACK` states earlier, the followed state
 advanced at most :data:`STALL` states over the last :data:`STALL_SAMPLES` samples, and the
 input's speed over the last :data:`RECENT` samples is at least :data:`KEEP` of its speed over
-the :data:`EARLIER` samples before them (and at least :data:`MOVED` of a sigma a sample).
+the :data:`EARLIER` samples before them (and at least :data:`MOVED` of a sigma a sample), and
+the input lies past the followed state the way the template came to it.
 Replayed on the held-out back-to-back ticks (seeds 101-112, six and twenty templates): 4 wrong
 ticks taken (the spin on circles, 110 and 112) against 5 true valid ticks; KEEP 0.8: 5 against
 14; the followed state advancing at most 0.5 states in one sample: 9 wrong (every spin run's
@@ -64,14 +65,16 @@ def _step(means, lo, off, j) -> float:
 
 
 @compiled(numba.boolean(_FA2, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1, _FA1,
-                        numba.float64, numba.float64, numba.float64, numba.float64))
-def outpaces(means, lo, n, off, scale, x, x_recent, x_earlier, g, g_stall, size,
+                        _FA1, _FA1, _FA1, numba.float64, numba.float64, numba.float64,
+                        numba.float64))
+def outpaces(means, lo, n, off, scale, uf, co, anchor, x, x_recent, x_earlier, g, g_stall, size,
              sigma) -> bool:
     """Whether the input keeps its speed where the template (states ``lo`` .. ``lo + n - 1``,
     rows ``off`` on in ``means``) slows and its followed state ``g`` (from its first) waits
     (module docstring): ``x_recent``, ``x_earlier``: the samples :data:`RECENT` and
     :data:`BACK` back; ``g_stall``: the followed state :data:`STALL_SAMPLES` back; ``scale``:
-    the template's spread per column, at ``size``; ``sigma``: the spread's sigma."""
+    the template's spread per column, at ``size``; ``uf``, ``co``, ``anchor``: its mapping
+    (as :func:`behaviors.mop.overrun.off_path2`); ``sigma``: the spread's sigma."""
     if SLOW <= 0.0:
         return False
     i = int(math.floor(g))
@@ -81,6 +84,14 @@ def outpaces(means, lo, n, off, scale, x, x_recent, x_earlier, g, g_stall, size,
     least = min(_step(means, lo, off, max(i - 1, 0)), _step(means, lo, off, i),
                 _step(means, lo, off, i + 1))
     if least >= SLOW * before:
+        return False
+    # ... the input lies past the followed state the way the template came to it
+    past = 0.0
+    for c in range(x.size):
+        z = ((x[c] - anchor[c]) / scale[c] + uf[c]) / size + co[c]
+        a = means[lo + i + off, c]
+        past += (z - a) * (a - means[lo + i - SLOW_BACK + off, c])
+    if past <= 0.0:
         return False
     recent, earlier = 0.0, 0.0
     for c in range(x.size):
