@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from behaviors.mop import overrun, speed_profile, tempo
+from behaviors.mop import overrun, tempo
 
 
 class Validity:
@@ -61,12 +61,4 @@ class Validity:
             float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
             self.sigma ** 2 * self.dim, float(self.dim), held))
         self._overran_k = k if out else -1
-        # ... nor while it waits where its template slows and the input keeps its speed
-        # (speed_profile.outpaces; not counted as an overrun)
-        g_stall = self._tempo_past[-speed_profile.STALL_SAMPLES][0]
-        x_recent = self._tempo_past[-speed_profile.RECENT][1]
-        x_earlier = self._tempo_past[-speed_profile.BACK][1]
-        return out or bool(speed_profile.outpaces(
-            b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
-            self._first_z[k], self._anchor, x, x_recent, x_earlier,
-            float(g[k] - lo), float(g_stall[k]), float(self._size[k]), self.sigma))
+        return out
