@@ -379,6 +379,7 @@ class PerformanceFrame:
         if not np.count_nonzero(moved):
             return
         self._judged[moved] = self._size[moved]
+        self._fresh[moved] = True   # (not refused at once: fresh_refusal)
         self._recent[moved] = self._log_constant
         self._recent_weight[moved] = 1.0
         self._misfit[moved] = 0.0

@@ -94,6 +94,7 @@ from behaviors.mop import bends
 from behaviors.mop.blocked import (BLOCKED_SAMPLES, BLOCKED_SIZE, blocked_run, lead_of_size,
                                    likeliest_other)
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.fresh_refusal import refuse
 from behaviors.mop.gesture_end import drives
 from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
@@ -163,9 +164,11 @@ class Recognition:
             self._recent_weight[new] = 1.0
             self._refused[new] = False
             self._engaged[new] = False
+            self._fresh[new] = False
         mean_ll = self._recent / self._recent_weight
         dist2 = (self._log_constant - mean_ll) * (2.0 / self._zdim)
-        self._refuse(dist2)
+        # (a template just judged afresh waits a few samples: fresh_refusal)
+        refuse(self._refused, self._fresh, dist2, self._recent_weight, self._null2, self._accept2)
         # engaged once past the onset state *and* the input itself has left the anchor by the
         # onset (template units): a still input lets the prior drift along the first states
         # (measured: a still tail after a diagonal re-engaged the circle within 6 samples)
