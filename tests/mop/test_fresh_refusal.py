@@ -17,5 +17,5 @@ def test_a_template_judged_afresh_is_not_refused_on_its_next_sample():
 def test_a_group_waits_to_refuse_a_template_judged_afresh_as_its_follower_alone():
     templates, x, _ = held_out_draw(102, "backflip_left_ankle", 1.2)
     (valid,) = group_beside_alone(lambda: puck_follower(templates), [x])
-    # measured: VALID valid samples (FEWER refused at once)
-    assert valid >= 0, valid
+    # measured: 18 valid samples (4 refused at once)
+    assert valid >= 15, valid
