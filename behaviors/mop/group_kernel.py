@@ -240,7 +240,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             ratio = size[k] / judged[k]
             if scaled and not (inside_lo < ratio < inside_hi) and abs(math.log(ratio)) > rejudge_at:
                 judged[k] = size[k]
-                fresh[k] = True
+                fresh[k] = k - a0 == acquired[i]
                 rec[k] = log_constant
                 rw[k] = 1.0
                 for c in range(misfit.shape[1]):
