@@ -269,10 +269,11 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
             self._least, self._judged = np.zeros(k), np.ones(k)
             self._at_hold_end = np.zeros(k, dtype=bool)
+            self._fresh = np.zeros(k, dtype=bool)   # judged afresh (fresh_refusal)
             self._probe = np.zeros((k, 3))   # behaviors.mop.size_probe
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
                   self._entries, self._num, self._den, self._least, self._at_hold_end,
-                  self._probe):
+                  self._probe, self._fresh):
             a.fill(0)
         self._size.fill(1.0)
         self._judged.fill(1.0)

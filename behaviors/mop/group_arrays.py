@@ -136,7 +136,7 @@ class GroupArrays:
     #: Per-template state shared with the members (each follower's arrays are views of these).
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_least", "_judged", "_at_hold_end", "_reached", "_probe")
+                     "_least", "_judged", "_at_hold_end", "_reached", "_probe", "_fresh")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
     _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone",
                        "_attempt_from", "_once") + group_layout.SHAPE_LAGS

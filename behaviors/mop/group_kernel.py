@@ -22,12 +22,13 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (blocked, commitment, coverage, group_layout, group_steps, holding,
-                           invariance, member_validity, members, misfit_size, path_kernel,
-                           reversal, rivals, shape_lead, size_probe, spotting, tempo, threshold,
-                           threshold_kernel, validity)
+from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_layout,
+                           group_steps, holding, invariance, member_validity, members, misfit_size,
+                           path_kernel, reversal, rivals, shape_lead, size_probe, spotting, tempo,
+                           threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
+from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
 from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
@@ -47,10 +48,10 @@ from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_R
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, group_layout, group_steps,
-               holding, invariance, member_validity, members, misfit_size, path_kernel, reversal,
-               rivals, shape_lead, size_probe, spotting, tempo, threshold, threshold_kernel,
-               validity)
+_CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, fresh_refusal, group_layout,
+               group_steps, holding, invariance, member_validity, members, misfit_size, path_kernel,
+               reversal, rivals, shape_lead, size_probe, spotting, tempo, threshold,
+               threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -119,7 +120,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     any_engaged, all_refused, leads_out = m_flags[0], m_flags[1], m_flags[2]
     thr_has_x, rest_out, committed_out = m_flags[3], m_flags[4], m_flags[5]
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
-    covered, at_hold_end = flags[3], flags[4]
+    covered, at_hold_end, fresh = flags[3], flags[4], flags[6]
     d = x.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
@@ -239,6 +240,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             ratio = size[k] / judged[k]
             if scaled and not (inside_lo < ratio < inside_hi) and abs(math.log(ratio)) > rejudge_at:
                 judged[k] = size[k]
+                fresh[k] = k - a0 == acquired[i]
                 rec[k] = log_constant
                 rw[k] = 1.0
                 for c in range(misfit.shape[1]):
@@ -254,6 +256,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 rw[k] = 1.0
                 refused[k] = False
                 engaged[k] = False
+                fresh[k] = False
             new_out[k] = new
             if new:
                 gone[k] = 0.0
@@ -263,7 +266,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             mll = rec[k] / rw[k]
             mean_ll_out[k] = mll
             dist2 = (log_constant - mll) * two_over
-            refused[k] = (refused[k] or dist2 > null2) and not dist2 < accept2
+            refused[k] = refused_after(refused[k], fresh[k], dist2, rw[k], null2, accept2)
+            fresh[k] = fresh[k] and rw[k] < FRESH_WEIGHT
             ssz = sk if scaled else 1.0
             if mean[k] >= t[1] and not refused[k] and not engaged[k]:
                 acc = 0.0

@@ -37,4 +37,4 @@ SHAPE_LAGS = tuple(f"_shape_lag_{j}" for j in range(2 * COMMIT_LAGS + 1))
 LAG0 = len(FLOATS)
 FLOATS += SHAPE_LAGS
 #: Per-template flags updated in place, in this order.
-FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end", "_once")
+FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end", "_once", "_fresh")

@@ -379,6 +379,8 @@ class PerformanceFrame:
         if not np.count_nonzero(moved):
             return
         self._judged[moved] = self._size[moved]
+        if self._acquired >= 0 and moved[self._acquired]:   # (the action driving: fresh_refusal)
+            self._fresh[self._acquired] = True
         self._recent[moved] = self._log_constant
         self._recent_weight[moved] = 1.0
         self._misfit[moved] = 0.0

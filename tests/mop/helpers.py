@@ -48,6 +48,22 @@ def held_out_draw(seed: int, want: str, want_scale: float, joints=None):
     raise KeyError(want)
 
 
+def held_out_valid(seed: int, want: str, want_scale: float) -> float:
+    """Share of the samples after 30% of :func:`held_out_draw`'s performance in which the puck
+    follower of its templates drives ``want`` (``valid_after30``)."""
+    from bench.follow_quality import puck_follower, run, true_metrics
+    templates, x, prog = held_out_draw(seed, want, want_scale)
+    return true_metrics(run(puck_follower(templates), x), want, prog)["valid_after30"]
+
+
+def held_out_group_valid(seed: int, want: str, want_scale: float) -> int:
+    """Valid samples of :func:`held_out_draw`'s performance stepped by a group of one puck
+    follower, equal at every tick to a follower alone (:func:`group_beside_alone`)."""
+    from bench.follow_quality import puck_follower
+    templates, x, _ = held_out_draw(seed, want, want_scale)
+    return group_beside_alone(lambda: puck_follower(templates), [x])[0]
+
+
 def group_beside_alone(make: Callable, streams: list[np.ndarray]) -> list[int]:
     """Each of ``streams`` stepped by a member of one ``FollowerGroup`` (of ``make()``
     followers) and by a follower of its own beside it: every state equal (valid, best, progress
