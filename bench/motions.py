@@ -8,6 +8,7 @@ tracking jitter; unrelated motions; gestures back to back. See ``bench/follow_qu
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Callable, Iterator, Mapping
@@ -54,23 +55,31 @@ def _normalise(path: np.ndarray, extent_m: float = 0.15) -> np.ndarray:
     return p * (extent_m / max(1e-9, float(np.ptp(p, axis=0).max())))
 
 
-def mocap_templates(max_seconds: float = 3.0, joints=MOCAP) -> dict[str, np.ndarray]:
-    """A joint's path in each DeepMimic clip (side view, 15 cm, at most ``max_seconds``);
-    ``joints``: (clip, joint) pairs."""
+@functools.lru_cache(maxsize=None)
+def _clip_points(clip_name: str, max_seconds: float) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Every figure point of the DeepMimic clip (side view) at 30 Hz over at most
+    ``max_seconds`` (n x points x 2, read-only), and the points' names. Kept for the process:
+    the twenty templates' clips cost about 0.23 CPU s to pose, asked for again and again."""
     from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion
     from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf
     from behaviors.mop.puppetry import HumanoidRig
     figure = ProjectedFigure(load_urdf(humanoid_urdf()), Projection(view_yaw=0.0, elevation=0.0),
                              root_scale=ROOT_SCALE)
     rig = HumanoidRig(figure)
-    names = list(figure.skeleton.point_names)
+    clip = load_motion(clip_name)
+    seconds = min(clip.duration, max_seconds)
+    n = int(seconds * RATE) + 1
+    pts = np.stack([rig.exact_pose(clip, u) for u in np.linspace(0, seconds / clip.duration, n)])
+    pts.flags.writeable = False
+    return pts, tuple(figure.skeleton.point_names)
+
+
+def mocap_templates(max_seconds: float = 3.0, joints=MOCAP) -> dict[str, np.ndarray]:
+    """A joint's path in each DeepMimic clip (side view, 15 cm, at most ``max_seconds``);
+    ``joints``: (clip, joint) pairs. Each call's arrays are its own."""
     out = {}
     for clip_name, joint in joints:
-        clip = load_motion(clip_name)
-        seconds = min(clip.duration, max_seconds)
-        n = int(seconds * RATE) + 1
-        pts = np.stack([rig.exact_pose(clip, u)
-                        for u in np.linspace(0, seconds / clip.duration, n)])
+        pts, names = _clip_points(clip_name, float(max_seconds))
         point = names.index(f"{joint}_tip" if f"{joint}_tip" in names else joint)
         out[f"{clip_name}_{joint}"] = _normalise(pts[:, point])
     return out
