@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.touch_pose.samples import place
+from behaviors.touch_pose.tracking import Tracker
 
 #: How far inside the table's ends the target's drawn points are kept (m): the tracked output
 #: lags and sways past the target by up to 0.02 m (0.019 m measured after three punches,
@@ -123,6 +124,56 @@ class EdgeLift:
         return float(lift + (rest - lift) * smooth((t - t0) / EASE_S))
 
 
+#: Seconds of tracked output predicted ahead for the table-x offset, over which a need is eased
+#: in before it comes (the tracked spin kick swings past its target within 0.15 s of starting).
+SIDE_LOOK = 0.2
+#: Fastest the table-x offset moves while a need comes (m/s; 20 mm a 30 fps frame).
+SIDE_SPEED = 0.9
+#: How far inside the table's ends the predicted output is kept (m).
+SIDE_MARGIN = 0.0
+
+
+class EdgeSide:
+    """The drawing offset (table x, m) of one character during an action: its tracked output
+    predicted ahead (tracking control's lag and the turn into the action's posture swing parts
+    past the target kept inside by ``_on_table``), eased toward the need of what comes."""
+
+    def __init__(self) -> None:
+        self.clock: object | None = None        # the running action it predicts
+        self.near = False                       # whether it started near a table end
+        self.times: list[float] = []           # seconds of the predicted frames
+        self.needs: list[float] = []           # their table-x needs (m)
+        self.side = 0.0                         # the offset drawn now
+        self.drawn: np.ndarray | None = None    # the points drawn last frame (m)
+        self.peaks: list[float] = []            # predicted frames' largest move of a part (m)
+
+    def ahead(self, t: float, dt: float, moves: np.ndarray) -> float:
+        """The offset (m) ``dt`` seconds after ``t``, the drawn parts moving ``moves`` (n, 2; m)
+        this frame without a change of offset: moved so that every need predicted ahead is
+        reached at most ``SIDE_SPEED`` later, at the speed that reaches them all evenly where
+        that keeps this frame's largest move of a part, else at the one nearest it that does
+        (the least otherwise); back toward 0 at ``EDGE_SPEED`` where nothing is needed, no
+        farther than the largest need ahead."""
+        o, times = self.side, np.array(self.times)
+        ahead = times > t + 1e-6
+        n, lead = np.array(self.needs)[ahead], times[ahead] - t
+        sign = 1.0 if o > 0.0 or n.max(initial=0.0) > -n.min(initial=0.0) else -1.0
+        o, n = sign * o, np.maximum(sign * n, 0.0)
+        rate = float(((n - o) / lead).max(initial=0.0))
+        if rate <= 0.0:
+            return sign * max(o - EDGE_SPEED * dt, float(n.max(initial=0.0)), 0.0)
+        lo = max(float((n - o - (lead - dt) * SIDE_SPEED).max(initial=0.0)), 0.0)
+        hi = max(lo, SIDE_SPEED * dt)
+        steps = np.append(np.linspace(lo, hi, 9), min(max(float(n.max()) - o, lo), hi))
+        moved = np.linalg.norm(moves[None] + np.outer(sign * steps, [1.0, 0.0])[:, None], axis=2)
+        worst = moved.max(axis=1)
+        budget = max(float(np.linalg.norm(moves, axis=1).max()),
+                     float(np.array(self.peaks)[ahead].max(initial=0.0)))
+        fine = worst <= max(budget, worst.min()) + 1e-9
+        pick = np.flatnonzero(fine)[np.argmin(np.abs(steps[fine] - steps[-1]))]
+        return sign * (o + float(steps[pick]))
+
+
 class EdgeOffset:
     """The drawing offset of :class:`behaviors.touch_pose.engine.TouchPose` (mixed in)."""
 
@@ -181,3 +232,49 @@ class EdgeOffset:
             edge.moved = np.array([now.min(), now.max()]) - extent(self.clock.u)
         for k in edge.next_samples(self.clock.u, self.clock.heading):
             edge.needs[k] = need(extent(edge.u[k]) + edge.moved, self.table[1], TABLE_MARGIN)
+
+    def _edge_side(self, t: float, dt: float) -> float:
+        """The drawing's table-x offset (m) at ``t``: toward the running action's predicted
+        needs (:meth:`EdgeSide.ahead`), back to 0 after it; anything still beyond brought on."""
+        side = self.side
+        acting = self.mode == "action" and self.clock is not None
+        if not acting:
+            side.clock, side.near, side.times, side.needs, side.peaks = None, False, [], [], []
+        xy = self.camera.table(self._points(self.output))
+        x = xy[:, 0]
+        if acting and side.clock is not self.clock:
+            reach = EDGE_REACH * self.scale * self.stand_height
+            side.clock, side.near = self.clock, bool(x.min() < reach
+                                                     or x.max() > self.table[0] - reach)
+        if acting:
+            self._predict_side(t, xy)
+        drawn = xy + np.array([side.side, self.edge.lift])
+        moves = drawn - (drawn if side.drawn is None else side.drawn)
+        off = side.ahead(t - dt, dt, moves)
+        off += need(x + off, self.table[0], 0.0)
+        side.drawn = xy + np.array([off, self.edge.lift])
+        return off
+
+    def _predict_side(self, t: float, xy: np.ndarray) -> None:
+        """The next ``SIDE_LOOK`` seconds of tracked output (equations 2-4, from the tracker's
+        state now) toward the action's postures ahead at its recording's pace, with the weights
+        of its last synthesis, placed where it started and kept on the table (``_on_table``):
+        their table-x needs and largest moves of a part."""
+        side, clock = self.side, self.clock
+        if not side.near:
+            return
+        a = clock.action
+        last = self.action_blend[1] if self.action_blend and self.action_blend[0] is a else None
+        base, yaw = self.action_base
+        tr, frame, u = self.tracker, 1.0 / 30.0, clock.u
+        sim = Tracker(tr.pose, tr.k, tr.d)
+        sim.omega, sim.vel = tr.omega.copy(), tr.vel.copy()
+        side.times, side.needs, side.peaks = [t], [need(xy[:, 0], self.table[0], SIDE_MARGIN)], [0.0]
+        for k in range(1, round(SIDE_LOOK / frame) + 1):
+            u = min(max(u + clock.heading * frame / a.duration, 0.0), 1.0)
+            target = self._on_table(place(a.model.at_time(last, u).pose, base, yaw))
+            nxt = self.camera.table(self.body.points(sim.step(target, frame)))
+            side.peaks.append(float(np.linalg.norm(nxt - xy, axis=1).max()))
+            side.times.append(t + k * frame)
+            side.needs.append(need(nxt[:, 0], self.table[0], SIDE_MARGIN))
+            xy = nxt
