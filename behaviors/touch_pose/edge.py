@@ -126,7 +126,7 @@ class EdgeLift:
 
 #: Seconds of tracked output predicted ahead for the table-x offset, over which a need is eased
 #: in before it comes (the tracked spin kick swings past its target within 0.15 s of starting).
-SIDE_LOOK = 0.2
+SIDE_LOOK = 0.1
 #: Fastest the table-x offset moves while a need comes (m/s; 20 mm a 30 fps frame).
 SIDE_SPEED = 0.9
 #: How far inside the table's ends the predicted output is kept (m).
