@@ -7,10 +7,16 @@ generalised time and eased in ``EASE_S`` before the part that needs it and out a
 action's postures at ``SAMPLES`` times, with the weights it started with, placed where it
 started). A figure that stays inside is drawn exactly where it was (no offset).
 
-Left along x: the tracked output swings past the target kept inside (``engine._on_table``) near
-the table's ends (a spin kick from 90,15 at x 1.15: 0.047 m beyond). A table-x offset eased
-toward the need at ``EDGE_SPEED``, the rest brought on at once, kept every part on (off cases
-13 -> 0 of 96) but moved a part 75.5 mm in one frame (61.3 drawn in place): refused.
+Along x the target is kept inside (``engine._on_table``), but tracking control (equations 2-4)
+swings the output past it near the table's ends: a spin kick recognised at generalised time 0.61
+(view 30,20, at x 0.05) put the target's root 0.096 m away at once, the tracked root followed
+over 0.3 s while the joints turning into the spinning posture reached 0.05 m beyond the clip's
+own (physics changed it by at most 0.013 m): 0.072 m off the table. Near an end the drawing is offset along
+x toward the needs of the tracked output predicted ``SIDE_LOOK`` ahead (:class:`EdgeSide`).
+Refused: the target's x shift planned from the clip's postures and eased in (the action starts
+with the leg already out: still 0.072 m off); an offset eased at ``EDGE_SPEED`` toward the output's
+need, the rest brought on at once (a part moved 75.5 mm in one frame, 61.3 drawn in place); one
+moved at the even speed reaching the predicted needs (61.3 -> 64.7 mm).
 """
 
 from __future__ import annotations
@@ -124,19 +130,20 @@ class EdgeLift:
         return float(lift + (rest - lift) * smooth((t - t0) / EASE_S))
 
 
-#: Seconds of tracked output predicted ahead for the table-x offset, over which a need is eased
-#: in before it comes (the tracked spin kick swings past its target within 0.15 s of starting).
+#: Seconds of tracked output predicted ahead for the table-x offset (3 frames; about 0.3 ms CPU
+#: a frame each). 0.2 and 0.15 s kept the same parts on with the same largest moves (61.3 mm
+#: seen, 57.2 near the ends from 60,30 250,25 0,15), the action frame's CPU p99 near an end
+#: 4.75 / 2.95 ms against 2.63 (2.14 without the offset).
 SIDE_LOOK = 0.1
-#: Fastest the table-x offset moves while a need comes (m/s; 20 mm a 30 fps frame).
+#: Fastest the table-x offset moves while a need comes (m/s; 30 mm a 30 fps frame). At 0.6 the
+#: spin kick from 250,25 at x 0.04 fell behind the prediction and the rest brought on at once
+#: moved a part 62.3 mm in one frame (57.2 drawn in place).
 SIDE_SPEED = 0.9
-#: How far inside the table's ends the predicted output is kept (m).
-SIDE_MARGIN = 0.0
 
 
 class EdgeSide:
-    """The drawing offset (table x, m) of one character during an action: its tracked output
-    predicted ahead (tracking control's lag and the turn into the action's posture swing parts
-    past the target kept inside by ``_on_table``), eased toward the need of what comes."""
+    """The drawing offset (table x, m) of one character near a table end: toward the needs of
+    its tracked output predicted ahead during an action, back to 0 after it."""
 
     def __init__(self) -> None:
         self.clock: object | None = None        # the running action it predicts
@@ -148,12 +155,14 @@ class EdgeSide:
         self.peaks: list[float] = []            # predicted frames' largest move of a part (m)
 
     def ahead(self, t: float, dt: float, moves: np.ndarray) -> float:
-        """The offset (m) ``dt`` seconds after ``t``, the drawn parts moving ``moves`` (n, 2; m)
-        this frame without a change of offset: moved so that every need predicted ahead is
-        reached at most ``SIDE_SPEED`` later, at the speed that reaches them all evenly where
-        that keeps this frame's largest move of a part, else at the one nearest it that does
-        (the least otherwise); back toward 0 at ``EDGE_SPEED`` where nothing is needed, no
-        farther than the largest need ahead."""
+        """The offset (m) ``dt`` seconds after ``t``, the drawn points moving ``moves`` (n, 2; m)
+        this frame with the offset kept. Toward the largest need predicted ahead, at most
+        ``SIDE_SPEED`` and at least what still reaches every need in time at that speed; of
+        these steps the one nearest the need that keeps this frame's largest move of a part
+        within the largest predicted ahead (the least otherwise). With no need ahead, back
+        toward 0 at ``EDGE_SPEED``, no farther than the needs ahead. (Predicted needs are kept
+        0 m inside: 0.005 m kept the largest move at 61.3 mm, 4 cases of 96 worse by up to
+        0.7 mm, 0.01 m raised it to 65.1.)"""
         o, times = self.side, np.array(self.times)
         ahead = times > t + 1e-6
         n, lead = np.array(self.needs)[ahead], times[ahead] - t
@@ -235,7 +244,9 @@ class EdgeOffset:
 
     def _edge_side(self, t: float, dt: float) -> float:
         """The drawing's table-x offset (m) at ``t``: toward the running action's predicted
-        needs (:meth:`EdgeSide.ahead`), back to 0 after it; anything still beyond brought on."""
+        needs (:meth:`EdgeSide.ahead`; predicted only for a figure within ``EDGE_REACH``
+        figure heights of an end when the action starts), back to 0 after it; any part still
+        beyond the table's x extent (a drag in posing, the prediction short) brought on."""
         side = self.side
         acting = self.mode == "action" and self.clock is not None
         if not acting:
@@ -269,12 +280,12 @@ class EdgeOffset:
         tr, frame, u = self.tracker, 1.0 / 30.0, clock.u
         sim = Tracker(tr.pose, tr.k, tr.d)
         sim.omega, sim.vel = tr.omega.copy(), tr.vel.copy()
-        side.times, side.needs, side.peaks = [t], [need(xy[:, 0], self.table[0], SIDE_MARGIN)], [0.0]
+        side.times, side.needs, side.peaks = [t], [need(xy[:, 0], self.table[0], 0.0)], [0.0]
         for k in range(1, round(SIDE_LOOK / frame) + 1):
             u = min(max(u + clock.heading * frame / a.duration, 0.0), 1.0)
             target = self._on_table(place(a.model.at_time(last, u).pose, base, yaw))
             nxt = self.camera.table(self.body.points(sim.step(target, frame)))
             side.peaks.append(float(np.linalg.norm(nxt - xy, axis=1).max()))
             side.times.append(t + k * frame)
-            side.needs.append(need(nxt[:, 0], self.table[0], SIDE_MARGIN))
+            side.needs.append(need(nxt[:, 0], self.table[0], 0.0))
             xy = nxt

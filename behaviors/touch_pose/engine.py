@@ -236,7 +236,7 @@ class TouchPose(ActionControl, EdgeOffset):
         return self._drawn(self._points(self.output))
 
     def _drawn(self, points: np.ndarray) -> np.ndarray:
-        """Table points (m) of model ``points`` as drawn: with the edge offset (table y)."""
+        """Table points (m) of model ``points`` as drawn: with the edge offsets (table x, y)."""
         xy = self.camera.table(points)
         if self.edge.lift != 0.0 or self.side.side != 0.0:
             xy = xy + np.array([self.side.side, self.edge.lift])
