@@ -1,4 +1,4 @@
-"""A figure standing near the table's top or bottom edge kept on the table through an action.
+"""A figure standing near the table's edges kept on the table through an action.
 
 Actions rise and travel (a jump's highest part 0.04 m, a punch's 0.06 m above the standing
 figure's top at 0.3 m tall, view 90,15): near the edge they left the table. The drawing is
@@ -11,12 +11,13 @@ Along x the target is kept inside (``engine._on_table``), but tracking control (
 swings the output past it near the table's ends: a spin kick recognised at generalised time 0.61
 (view 30,20, at x 0.05) put the target's root 0.096 m away at once, the tracked root followed
 over 0.3 s while the joints turning into the spinning posture reached 0.05 m beyond the clip's
-own (physics changed it by at most 0.013 m): 0.072 m off the table. Near an end the drawing is offset along
-x toward the needs of the tracked output predicted ``SIDE_LOOK`` ahead (:class:`EdgeSide`).
-Refused: the target's x shift planned from the clip's postures and eased in (the action starts
-with the leg already out: still 0.072 m off); an offset eased at ``EDGE_SPEED`` toward the output's
-need, the rest brought on at once (a part moved 75.5 mm in one frame, 61.3 drawn in place); one
-moved at the even speed reaching the predicted needs (61.3 -> 64.7 mm).
+own (physics changed it by at most 0.013 m): 0.072 m off the table. Near an end the drawing is
+offset along x toward the needs of the tracked output predicted ``SIDE_LOOK`` ahead
+(:class:`EdgeSide`). Refused: the target's x shift planned from the clip's postures and eased in
+(the action starts with the leg already out: still 0.072 m off); an offset eased at
+``EDGE_SPEED`` toward the output's need, the rest brought on at once (a part moved 75.5 mm in
+one frame, 61.3 drawn in place); one moved at the even speed reaching the predicted needs (61.3
+-> 64.7 mm).
 """
 
 from __future__ import annotations
