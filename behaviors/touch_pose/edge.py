@@ -17,7 +17,7 @@ offset along x toward the needs of the tracked output predicted ``SIDE_LOOK`` ah
 (the action starts with the leg already out: still 0.072 m off); an offset eased at
 ``EDGE_SPEED`` toward the output's need, the rest brought on at once (a part moved 75.5 mm in
 one frame, 61.3 drawn in place); one moved at the even speed reaching the predicted needs (61.3
--> 64.7 mm).
+-> 65.5 mm).
 """
 
 from __future__ import annotations
