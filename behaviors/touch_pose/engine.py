@@ -34,7 +34,7 @@ import numpy as np
 
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel
 from behaviors.touch_pose.action_control import ActionControl, Handover
-from behaviors.touch_pose.edge import TABLE_MARGIN, EdgeLift, EdgeOffset
+from behaviors.touch_pose.edge import TABLE_MARGIN, EdgeLift, EdgeOffset, EdgeSide
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, qrot
 from behaviors.touch_pose.ik import CCD, limit_goal
@@ -108,6 +108,7 @@ class TouchPose(ActionControl, EdgeOffset):
         # the ended action's last target, it moved to the base, and the faded-in part (0-1)
         self.handover: Handover | None = None
         self.edge = EdgeLift()   # the drawing's table-y offset near the top or bottom edge
+        self.side = EdgeSide()   # its table-x offset near the left or right end
 
     # --- actions -------------------------------------------------------------------------------
 
@@ -200,6 +201,7 @@ class TouchPose(ActionControl, EdgeOffset):
         self.target = self._on_table(self.target)
         self.track(dt)
         self.edge.lift = self._edge_lift(t, dt)
+        self.side.side = self._edge_side(t, dt)
         return self.frame(t) if record else None
 
     def track(self, dt: float) -> None:
@@ -234,10 +236,10 @@ class TouchPose(ActionControl, EdgeOffset):
         return self._drawn(self._points(self.output))
 
     def _drawn(self, points: np.ndarray) -> np.ndarray:
-        """Table points (m) of model ``points`` as drawn: with the edge offset (table y)."""
+        """Table points (m) of model ``points`` as drawn: with the edge offsets (table x, y)."""
         xy = self.camera.table(points)
-        if self.edge.lift != 0.0:
-            xy = xy + np.array([0.0, self.edge.lift])
+        if self.edge.lift != 0.0 or self.side.side != 0.0:
+            xy = xy + np.array([self.side.side, self.edge.lift])
         return xy
 
     def head_facing(self) -> tuple[float, float, float]:
