@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.puppet_master.character import FOLLOW_SHARE, TOUCH_M
-from behaviors.puppet_master.darts import less_inward
+from behaviors.puppet_master.character import FOLLOW_SHARE
 from behaviors.puppet_master.generation import (capped, less_approach, mean_capped, share_around,
                                                 step_around, target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
@@ -60,16 +59,6 @@ class GenerationStep(StepDetail):
         # entered in its run-up only (demonstrated.charge_entries: joined in its push, a push
         # followed another back to back)
         self._charge_ended = False
-        rx, ry, _ = self.pose
-        if 0 <= self.source < self._dart_end and math.hypot(
-                rx - self.main_motion.x, ry - self.main_motion.y) > b.distance[self.source] \
-                and b.distance[self.source] > TOUCH_M:
-            # a dart the match has entered is kept whole to its bottom while the friend is
-            # farther out than its moment (darts.py: why; the figures at _trajectory's dart)
-            self.source = target = self.source + 1
-            self.last_choice = "dart"
-            return target
-        self._dart_end = b.dart_end[target]
         if 0 <= self.source < self._charge_end:
             target = self.source + 1
             self.last_choice = "charge"
@@ -278,9 +267,6 @@ class GenerationStep(StepDetail):
                                            b.main_approach[target], cx, cy)
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
-                if b.darts and self._charge_end < 0:
-                    sx, sy = less_inward(sx, sy, c * dfx - s_ * dfy, s_ * dfx + c * dfy,
-                                         rx - mxp, ry - myp, dist, b.main_disc)
             if self._charge_end >= 0:     # a charge kept whole arrives (step_charge.py)
                 sx, sy = close_on_touch(sx, sy, mx - rx, my - ry, dist,
                                         b.charge_touch[target] - target)
