@@ -94,8 +94,10 @@ class StepDetail(StepSenses):
         # contacts over 0.35 s 17% -> 11% (12%); bench/fidelity.py, the engine's alone, seeds
         # 0-5 7 -> 6, 40-51 --perturb 2 30 / 28 / 31 -> 29 / 28 / 27, 128-139 21 / 20 / 22 ->
         # 20 / 19 / 20, but 300-311 23 / 29 / 27 -> 27 / 29 / 27 (the friend 0 -> 4, fast paths'
-        # contact, 3 over). Not kept. Carrying the main's turn at main-frame places evens the
-        # loops' two senses (clockwise 0.010 -> 0.015, counter-clockwise 0.055 -> 0.039-0.044)
+        # contact, 3 over). Kept only while the moment is not in contact: 0-5 7 -> 5, 40-51
+        # 30 / 28 / 31 -> 30 / 29 / 28, 128-139 21 / 20 / 22 -> 18 / 17 / 20, 300-311 23 / 29 /
+        # 27 -> 24 / 29 / 26 (loops contact 0.033 / sd 0.008). Not kept. Carrying the main's
+        # turn at main-frame places evens the loops' two senses (clockwise 0.010 -> 0.015, counter-clockwise 0.055 -> 0.039-0.044)
         # but lowers the loops mean to 0.030-0.034 (friend misses, the engine's, 2 / 3 / 4 ->
         # 3 / 4 / 3, 2 / 5 / 3, 1 / 3 / 5). Not kept
         # The stalker near its main (moments under 0.12 m, seeds 0-5): 3.8-6.3 cm farther out
