@@ -96,10 +96,13 @@ class StepDetail(StepSenses):
         # 20 / 19 / 20, but 300-311 23 / 29 / 27 -> 27 / 29 / 27 (the friend 0 -> 4, fast paths'
         # contact, 3 over). Kept only while the moment is not in contact: 0-5 7 -> 5, 40-51
         # 30 / 28 / 31 -> 30 / 29 / 28, 128-139 21 / 20 / 22 -> 18 / 17 / 20, 300-311 23 / 29 /
-        # 27 -> 24 / 29 / 26 (loops contact 0.033 / sd 0.008). Not kept. Carrying the main's
-        # turn at main-frame places evens the loops' two senses (clockwise 0.010 -> 0.015,
-        # counter-clockwise 0.055 -> 0.039-0.044) but lowers the loops mean to 0.030-0.034
-        # (friend misses, the engine's, 2 / 3 / 4 -> 3 / 4 / 3, 2 / 5 / 3, 1 / 3 / 5). Not kept
+        # 27 -> 24 / 29 / 26 (loops contact 0.033 / sd 0.008); the friend alone over five runs
+        # (relative_motion x 1, 1 +- 0.001, 1 +- 0.002) its misses, the engine's, 8 / 18 / 18 /
+        # 6 -> 4 / 13 / 7 / 11 (the held-out fast paths' contact over). Not kept. Carrying the
+        # main's turn at main-frame places evens the loops' two senses (clockwise 0.010 ->
+        # 0.015, counter-clockwise 0.055 -> 0.039-0.044) but lowers the loops mean to
+        # 0.030-0.034 (friend misses, the engine's, 2 / 3 / 4 -> 3 / 4 / 3, 2 / 5 / 3, 1 / 3 /
+        # 5). Not kept
         # The stalker near its main (moments under 0.12 m, seeds 0-5): 3.8-6.3 cm farther out
         # than the moment, 2-6 cm of it sideways (|left| 0.074-0.110 m against 0.045-0.055) and
         # 3-5.5 cm ahead of the main that came back at it, while its raw steps close faster than
