@@ -83,6 +83,26 @@ class StepDetail(StepSenses):
         # / 7 (fast contact 0.032 -> 0.042 / 0.040, loops 0.029 / 0.027; Python step),
         # w_rel_look 0 7 (loops 0.032), unseen 11 against 9 (fast 4 over, contact 0.045);
         # look.py _circling: place frames, k's span. None kept.
+        # Stage by stage there (moments closing over 1.5 mm a step, seeds 0-5 loops, m/s):
+        # clockwise the moment 0.161, raw 0.162, after this smooth 0.108 (counter-clockwise
+        # 0.182 / 0.238 / 0.181, its main walking into it at 0.083); the match leaves a dart
+        # within 3.6-3.8 steps and the smooth averages it with the next moment's. A dart's
+        # run-up kept whole to its bottom (the next minimum under TOUCH_M, 3 cm below) while
+        # the friend is farther out than its moment, with the inward part of the main-frame
+        # relative step scaled by the room to the main's disc within TOUCH_M at a moment that
+        # is not: loops contact 0.038 / sd 0.018 -> 0.036 / 0.009 (its designer 0.041 / 0.013),
+        # contacts over 0.35 s 17% -> 11% (12%); bench/fidelity.py, the engine's alone, seeds
+        # 0-5 7 -> 6, 40-51 --perturb 2 30 / 28 / 31 -> 29 / 28 / 27, 128-139 21 / 20 / 22 ->
+        # 20 / 19 / 20, but 300-311 23 / 29 / 27 -> 27 / 29 / 27 (the friend 0 -> 4, fast paths'
+        # contact, 3 over). Kept only while the moment is not in contact: 0-5 7 -> 5, 40-51
+        # 30 / 28 / 31 -> 30 / 29 / 28, 128-139 21 / 20 / 22 -> 18 / 17 / 20, 300-311 23 / 29 /
+        # 27 -> 24 / 29 / 26 (loops contact 0.033 / sd 0.008); the friend alone over five runs
+        # (relative_motion x 1, 1 +- 0.001, 1 +- 0.002) its misses, the engine's, 8 / 18 / 18 /
+        # 6 -> 4 / 13 / 7 / 11 (the held-out fast paths' contact over). Not kept. Carrying the
+        # main's turn at main-frame places evens the loops' two senses (clockwise 0.010 ->
+        # 0.015, counter-clockwise 0.055 -> 0.039-0.044) but lowers the loops mean to
+        # 0.030-0.034 (friend misses, the engine's, 2 / 3 / 4 -> 3 / 4 / 3, 2 / 5 / 3, 1 / 3 /
+        # 5). Not kept
         # The stalker near its main (moments under 0.12 m, seeds 0-5): 3.8-6.3 cm farther out
         # than the moment, 2-6 cm of it sideways (|left| 0.074-0.110 m against 0.045-0.055) and
         # 3-5.5 cm ahead of the main that came back at it, while its raw steps close faster than
