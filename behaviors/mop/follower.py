@@ -38,7 +38,7 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.recognition import Recognition
 from behaviors.mop.refusal import Refusal, shape_limits
-from behaviors.mop import commitment
+from behaviors.mop import commitment, fresh_refusal
 from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
@@ -52,7 +52,8 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 #: the step that first calls one (behaviors.kernel_cache.load; what they call is in their code).
 _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
             path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
-            reversal.reversal_size, size_probe.probe_allowed, size_probe.take_probe)
+            reversal.reversal_size, size_probe.probe_allowed, size_probe.take_probe,
+            fresh_refusal.refuse)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,
