@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from behaviors.mop import overrun, tempo
+from behaviors.mop import overrun, speed_profile, tempo
 
 
 class Validity:
@@ -61,4 +61,22 @@ class Validity:
             float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
             self.sigma ** 2 * self.dim, float(self.dim), held))
         self._overran_k = k if out else -1
-        return out
+        # ... nor while it waits where its template slows and the input keeps its speed, at this
+        # sample and the one before (speed_profile.outpaces; not counted as an overrun)
+        if out or len(self._tempo_past) < speed_profile.BACK + 1:
+            return out
+        then, x_then, _ = self._tempo_past[-1]
+        return self._outpaces(k, g[k] - lo, x, 0) and self._outpaces(k, then[k], x_then, 1)
+
+    def _outpaces(self, k: int, g: float, x: np.ndarray, ago: int) -> bool:
+        """:func:`behaviors.mop.speed_profile.outpaces` for template ``k`` (bank index) at the
+        sample ``ago`` samples back (``x``; ``g``: its followed state, from the first), against
+        the samples the tempo keeps (:meth:`_remember_tempo`)."""
+        b, past = self.bank, self._tempo_past
+        lo = int(b.starts[k])
+        return bool(speed_profile.outpaces(
+            b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+            self._first_z[k], self._anchor, x, past[-speed_profile.RECENT - ago][1],
+            past[-speed_profile.BACK - ago][1], float(g),
+            float(past[-speed_profile.STALL_SAMPLES - ago][0][k]),
+            float(past[-1 - ago][2][k] if ago else self._size[k]), self.sigma))

@@ -17,7 +17,8 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, overrun, path_kernel, shape_lead, take_fit, validity
+from behaviors.mop import handover, overrun, path_kernel, shape_lead, speed_profile, take_fit
+from behaviors.mop import validity
 from behaviors.mop import tempo as tempo_rules   # (its function tempo is this module's)
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
 from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
@@ -27,7 +28,8 @@ from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (path_kernel's through
 # overrun's)
-_CALLS_INTO = (handover, overrun, path_kernel, shape_lead, take_fit, tempo_rules, validity)
+_CALLS_INTO = (handover, overrun, path_kernel, shape_lead, speed_profile, take_fit, tempo_rules,
+               validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -166,6 +168,25 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
             size[gb], tempo_s[sp, gb], m[14], m[0], held)
         if out[i]:
             overran_k[i] = best[i]
+        # ... or it waits where its template slows and the input keeps its speed, at this
+        # sample and the one before (speed_profile.outpaces; not counted as an overrun)
+        if out[i] or seen[i] < speed_profile.BACK + 1:
+            continue
+        sigma = math.sqrt(m[14] / m[0])
+        waits = True
+        for ago in range(2):
+            xa = x[i] if ago == 0 else tempo_x[(at[i] - 1) % w, i]
+            ga = mean[gb] if ago == 0 else tempo_g[(at[i] - 1) % w, gb]
+            sa = size[gb] if ago == 0 else tempo_s[(at[i] - 1) % w, gb]
+            if not speed_profile.outpaces(
+                    states[:, :d], start, length, off, tc[gb, sc0:sc0 + d],
+                    tc[gb, uf0:uf0 + d], tc[gb, co0:co0 + d], anchor[i], xa,
+                    tempo_x[(at[i] - speed_profile.RECENT - ago) % w, i],
+                    tempo_x[(at[i] - speed_profile.BACK - ago) % w, i], min(ga, length - 1.0),
+                    tempo_g[(at[i] - speed_profile.STALL_SAMPLES - ago) % w, gb], sa, sigma):
+                waits = False
+                break
+        out[i] = waits
     return out
 
 
