@@ -64,6 +64,23 @@ def held_out_group_valid(seed: int, want: str, want_scale: float) -> int:
     return group_beside_alone(lambda: puck_follower(templates), [x])[0]
 
 
+def held_out_twenty(seed: int, nth: int) -> tuple[dict, np.ndarray, list, np.ndarray]:
+    """The held-out twenty templates and ``bench/follow_seeds.py``'s seed ``seed``, its
+    ``nth`` (from 1) sequence of twenty back to back: samples, truth, true progress."""
+    from bench.follow_quality import holds, sized
+    from bench.motions import MOCAP_HELD_OUT, back_to_back, gesture_templates, mocap_templates
+    gestures = gesture_templates()
+    templates = {**gestures, **mocap_templates(joints=MOCAP_HELD_OUT)}
+    rng = np.random.default_rng(seed)
+    sized(lambda t: None, templates, rng)   # the draws of the sections before the sequences
+    holds(lambda t: None, gestures, rng)
+    for _ in range(8):
+        back_to_back(rng, gestures, 4)
+    for _ in range(nth):
+        x, truth, prog, _ = back_to_back(rng, templates, 4)
+    return templates, x, truth, prog
+
+
 def group_beside_alone(make: Callable, streams: list[np.ndarray]) -> list[int]:
     """Each of ``streams`` stepped by a member of one ``FollowerGroup`` (of ``make()``
     followers) and by a follower of its own beside it: every state equal (valid, best, progress

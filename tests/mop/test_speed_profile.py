@@ -11,17 +11,8 @@ def _spin_on_circle_stream() -> tuple[dict, np.ndarray, list]:
     """The held-out twenty templates and ``bench/follow_seeds.py``'s seed 112, its sixth
     sequence of twenty back to back up to the circle's end (a roll wrist, then a circle whose
     start is the spin wrist's path up to its turn): samples and truth."""
-    from bench.follow_quality import holds, sized
-    from bench.motions import MOCAP_HELD_OUT, back_to_back, gesture_templates, mocap_templates
-    gestures = gesture_templates()
-    templates = {**gestures, **mocap_templates(joints=MOCAP_HELD_OUT)}
-    rng = np.random.default_rng(112)
-    sized(lambda t: None, templates, rng)   # the draws of the sections before the sequences
-    holds(lambda t: None, gestures, rng)
-    for _ in range(8):
-        back_to_back(rng, gestures, 4)
-    for _ in range(6):
-        x, truth, _, _ = back_to_back(rng, templates, 4)
+    from tests.mop.helpers import held_out_twenty
+    templates, x, truth, _ = held_out_twenty(112, 6)
     return templates, x[:135], truth[:135]
 
 

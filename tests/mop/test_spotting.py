@@ -407,17 +407,8 @@ def _unseen_end_stream() -> tuple[dict, np.ndarray, list, np.ndarray]:
     """The held-out twenty templates and ``bench/follow_seeds.py``'s seed 109, its fifth
     sequence of twenty back to back from the cartwheel's end on (a cartwheel ankle's last 7
     ticks, a punch ankle never recognised, a getup wrist): samples, truth, true progress."""
-    from bench.follow_quality import holds, sized
-    from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
-    gestures = gesture_templates()
-    templates = {**gestures, **mocap_templates(joints=MOCAP_HELD_OUT)}
-    rng = np.random.default_rng(109)
-    sized(lambda t: None, templates, rng)   # the draws of the sections before the sequences
-    holds(lambda t: None, gestures, rng)
-    for _ in range(8):
-        back_to_back(rng, gestures, 4)
-    for _ in range(5):
-        x, truth, prog, _ = back_to_back(rng, templates, 4)
+    from tests.mop.helpers import held_out_twenty
+    templates, x, truth, prog = held_out_twenty(109, 5)
     return templates, x[150:], truth[150:], prog[150:]
 
 
