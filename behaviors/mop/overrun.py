@@ -153,20 +153,11 @@ nearer and are spared.
 The held-out spin wrist on a circle (twenty templates back to back): its path up to its turn
 (0.29) is the circle's start up to 0.37; taken there as true spins are, it drove 4-6 ticks while
 its followed state waited at the turn and the input went on up the circle at its speed, its
-size estimate growing 1.05 -> 1.36 (:data:`GROWN` spares that) at pace 0.89-1.1. True spins'
-input slows there with the template (1.1 -> 0.26 cm a sample over 4 states). Measured and not
-kept, beside this veto (only what is shown): the best action hidden where its template slows
-under 0.4 of its speed 4 states back, its followed state advanced at most 0.8 states over 2
-samples, the input past it the way the template came, keeping 0.95 of its speed (2 samples
-against the 4 before) at 0.5 sigma a sample or more. ``bench/follow_seeds.py --sections=sized,
-unrelated,sequences`` (seeds 101-112): twenty back to back longest wrong run 110 and 112 4 -> 2,
-the rest unchanged, unrelated told 0.0498 / 0.0514 -> 0.0485 / 0.0511 mean; but valid after 30%
-at 0.7-1.4x 101 0.9112 -> 0.9110, 107 0.9102 -> 0.9100, 108 0.8906 -> 0.8904, 112 0.9023 ->
-0.9022; ``bench/follow_quality.py``: held-out holds 0.9625 -> 0.9610, bent 5% 0.7466 -> 0.7448,
-tuned 1.2x taller 0.4154 -> 0.4151 (unrelated mean 0.0101 -> 0.0098). At 0.1 sigma a sample and
-without the input past the state: valid after 30% 0.9036 -> 0.9007 mean over 107-112 (joints'
-slow stretches, where the input's speed is mostly the jitter's, and a punch ankle followed ahead
-of the performer to its turn).
+size estimate growing 1.05 -> 1.36 (:data:`GROWN` spares that) at pace 0.89-1.1. Beside this
+veto, :mod:`behaviors.mop.speed_profile` hides it there (longest wrong run on seeds 110 and 112
+4 -> 3; at one sample alone it lowered valid after 30% at 0.7-1.4x on four seeds, held-out holds
+0.9625 -> 0.9610 and bent 5% 0.7466 -> 0.7448; at 0.1 sigma a sample and without the input past
+the state, valid after 30% 0.9036 -> 0.9007 mean over seeds 107-112: joints' slow stretches).
 """
 
 from __future__ import annotations
