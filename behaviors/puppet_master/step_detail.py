@@ -107,8 +107,8 @@ class StepDetail(StepSenses):
         # while the live main turns against the friend's circling (any / over 1 rad/s): 5, 30 /
         # 30 / 28, 20 / 19 / 19, 27 / 29 / 32; 5, 31 / 29 / 29, 20 / 21 / 23, 26 / 27 / 31. Not
         # kept (300-311 worse in each, the friend's there 0 / 3 / 1 -> 2 / 3 / 2 to 6 / 8 / 2).
-        # Carrying the
-        # main's turn at main-frame places evens the loops' two senses (clockwise 0.010 ->
+        # Carrying the main's turn at main-frame places evens the loops' two senses
+        # (clockwise 0.010 ->
         # 0.015, counter-clockwise 0.055 -> 0.039-0.044) but lowers the loops mean to
         # 0.030-0.034 (friend misses, the engine's, 2 / 3 / 4 -> 3 / 4 / 3, 2 / 5 / 3, 1 / 3 /
         # 5). Not kept
