@@ -103,7 +103,9 @@ class StepDetail(StepSenses):
         # (demonstrated.main_approach) plus 0 / 0.05 / 0.1 / 0.2 m/s (the engine's misses, 0-5
         # 7, 40-51 30 / 28 / 31, 128-139 21 / 20 / 22, 300-311 23 / 29 / 27): 7, 29 / 28 / 29,
         # 19 / 18 / 20, 29 / 34 / 28; 7, 29 / 26 / 29, 17 / 20 / 22, 27 / 32 / 28; 7, 30 / 27 /
-        # 30, 20 / 20 / 23, 25 / 31 / 28; 5, 29 / 29 / 31, 19 / 19 / 20, 25 / 29 / 28; kept only
+        # 30, 20 / 20 / 23, 25 / 31 / 28; 5, 29 / 29 / 31, 19 / 19 / 20, 25 / 29 / 28; at 0.2
+        # and only while the moment is not in contact 5, 30 / 29 / 29, 18 / 17 / 20, 25 / 29 /
+        # 26 (without the approach 5, 30 / 29 / 28, 18 / 17 / 20, 24 / 29 / 26); kept only
         # while the live main turns against the friend's circling (any / over 1 rad/s): 5, 30 /
         # 30 / 28, 20 / 19 / 19, 27 / 29 / 32; 5, 31 / 29 / 29, 20 / 21 / 23, 26 / 27 / 31. Not
         # kept (300-311 worse in each, the friend's there 0 / 3 / 1 -> 2 / 3 / 2 to 6 / 8 / 2).
