@@ -98,8 +98,19 @@ class StepDetail(StepSenses):
         # 30 / 28 / 31 -> 30 / 29 / 28, 128-139 21 / 20 / 22 -> 18 / 17 / 20, 300-311 23 / 29 /
         # 27 -> 24 / 29 / 26 (loops contact 0.033 / sd 0.008); the friend alone over five runs
         # (relative_motion x 1, 1 +- 0.001, 1 +- 0.002) its misses, the engine's, 8 / 18 / 18 /
-        # 6 -> 4 / 13 / 7 / 11 (the held-out fast paths' contact over). Not kept. Carrying the
-        # main's turn at main-frame places evens the loops' two senses (clockwise 0.010 ->
+        # 6 -> 4 / 13 / 7 / 11 (the held-out fast paths' contact over). Not kept. That dart
+        # ended when the live main steps towards the friend more than the moment's main did
+        # (demonstrated.main_approach) plus 0 / 0.05 / 0.1 / 0.2 m/s (the engine's misses, 0-5
+        # 7, 40-51 30 / 28 / 31, 128-139 21 / 20 / 22, 300-311 23 / 29 / 27): 7, 29 / 28 / 29,
+        # 19 / 18 / 20, 29 / 34 / 28; 7, 29 / 26 / 29, 17 / 20 / 22, 27 / 32 / 28; 7, 30 / 27 /
+        # 30, 20 / 20 / 23, 25 / 31 / 28; 5, 29 / 29 / 31, 19 / 19 / 20, 25 / 29 / 28; at 0.2
+        # and only while the moment is not in contact 5, 30 / 29 / 29, 18 / 17 / 20, 25 / 29 /
+        # 26 (without the approach 5, 30 / 29 / 28, 18 / 17 / 20, 24 / 29 / 26); kept only
+        # while the live main turns against the friend's circling (any / over 1 rad/s): 5, 30 /
+        # 30 / 28, 20 / 19 / 19, 27 / 29 / 32; 5, 31 / 29 / 29, 20 / 21 / 23, 26 / 27 / 31. Not
+        # kept (300-311 worse in each, the friend's there 0 / 3 / 1 -> 2 / 3 / 2 to 6 / 8 / 2).
+        # Carrying the main's turn at main-frame places evens the loops' two senses
+        # (clockwise 0.010 ->
         # 0.015, counter-clockwise 0.055 -> 0.039-0.044) but lowers the loops mean to
         # 0.030-0.034 (friend misses, the engine's, 2 / 3 / 4 -> 3 / 4 / 3, 2 / 5 / 3, 1 / 3 /
         # 5). Not kept
