@@ -308,7 +308,6 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
     return clamp_to_table(x, y, c)
 
 
-
 @compiled(_P2(_f8, _f8, _f8, _f8, _F2, _F1), step_math, apart)
 def no_deeper(rx: float, ry: float, x: float, y: float, others: np.ndarray,
               c: np.ndarray) -> tuple[float, float]:
@@ -333,6 +332,7 @@ def no_deeper(rx: float, ry: float, x: float, y: float, others: np.ndarray,
         if not moved or others.shape[0] < 2:
             break
     return clamp_to_table(x, y, c)
+
 
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _F1), step_math, apart)
 def pressed_along_edge(x: float, y: float, mx: float, my: float, vx: float, vy: float,
