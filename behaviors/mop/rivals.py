@@ -176,7 +176,8 @@ among twenty told 0.098 -> 0.120 (over its 0.10), twenty templates' unrelated me
 0.0105, a wander among twenty held-out 0.006 -> 0.021: on a straight stroke the narrow line is
 what keeps a broader template from driving it. Only where the rival is under a tenth as probable:
 the same gains, own stroke 0.120, mean 0.0092; narrower by :data:`BROADER` (0.6): only the tuned
-twenty's mean past the reach moves (0.101 -> 0.100).
+twenty's mean past the reach moves (0.101 -> 0.100); only a rival beyond ``COMMIT_FIT`` itself:
+every figure as at 0.01 (the narrower rivals waived never fitted the stroke that well).
 """
 
 from __future__ import annotations
