@@ -166,6 +166,18 @@ its own spread too: 105 0.8937 -> 0.8928; and held only while the rival fits bet
 unchanged but valid after 30% lower on 11 of 12 seeds (mean 0.9008 -> 0.9003, 0.8960 -> 0.8952;
 105: the spin at 1.2x, its rival fitting better by 2.1-3.1 nats, the jump ankle at 1.4x by
 5.3-7.2, both held at a 2-nat margin too).
+Measured and not kept: a narrower rival less probable than the action no rival (the reverse of
+:func:`broad_rivals`: the line, predicting a spin's or a circle's start more sharply, kept it from
+leading while the broader action was the likelier all the same). ``bench/follow_quality.py
+--sections=sequences`` (tuned / held-out): narrower by more than 0.01 nats a sample, held-out twenty
+within 20% or by the reach + 0.05 0.625 -> 0.656 (one gesture), by the reach 0.406 -> 0.438, no
+wrong run longer, the rest unchanged; but ``--sections=unrelated,after`` a template's own stroke
+among twenty told 0.098 -> 0.120 (over its 0.10), twenty templates' unrelated mean 0.0086 ->
+0.0105, a wander among twenty held-out 0.006 -> 0.021: on a straight stroke the narrow line is
+what keeps a broader template from driving it. Only where the rival is under a tenth as probable:
+the same gains, own stroke 0.120, mean 0.0092; narrower by :data:`BROADER` (0.6): only the tuned
+twenty's mean past the reach moves (0.101 -> 0.100); only a rival beyond ``COMMIT_FIT`` itself:
+every figure as at 0.01 (the narrower rivals waived never fitted the stroke that well).
 """
 
 from __future__ import annotations

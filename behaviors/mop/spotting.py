@@ -247,6 +247,14 @@ class GestureSpotting(GestureEnd):
         """A new attempt starts at this sample (``still``: at the mean of the still input):
         anchor there, every template at its first state, no evidence; the threshold model
         afresh but for its lead over the templates (:meth:`Refusal._threshold_lead`)."""
+        # Measured and not kept: the forward's transitions flatter for the attempt's first
+        # samples, so that the followed state catches up with a fast start (onset found a few
+        # states late: a kick ankle's followed progress 0.02 at 0.12 of it). bench/follow_quality
+        # .py --sections=sequences, twenty templates, tuned / held-out: for 8 samples (0.1, 0.3,
+        # 0.3, 0.3, none back) within 20% 0.406 / 0.375 -> 0.375 / 0.313, past the reach 0.101 /
+        # 0.087 -> 0.090 / 0.081, held-out longest wrong run 4 -> 6; 4 and 15 samples (0.2, 0.3,
+        # 0.3, 0.2, 0.05 back) within 20% 0.344 / 0.344 and 0.375 / 0.344: sooner on the mean,
+        # but rivals catch up as fast and fewer gestures are recognised within 20%.
         forward.reset_templates(offset + np.arange(len(self.names)))
         entries = self._entries.copy()
         lead = self._threshold_lead()

@@ -21,6 +21,15 @@ for 10 samples before the threshold model refused it. Measured and not kept
 asked again of the action's first 10 / 15 samples while it drives (stopped beyond 0.5 / 0.4):
 0.9147 / 0.9123, mean 0.0232 -> 0.0222 / 0.0216.
 
+What it holds back to back: a held-out jump ankle (seed 103, twenty templates, 0.96x) best from
+0.31 of it, 50-70 nats ahead from 0.6 and from 0.42 leading every template's shape sum 2.7-9
+times over, was never taken: its fast start, followed 0.06 behind at a size estimate of 0.85-0.94,
+left the last samples astray at every one of :data:`~behaviors.mop.shape_lead.TAKE_SIZES`, on
+each of its 51 ticks to its end.
+Measured and not kept: the take's fit waived for an action 20 nats ahead of every other
+(``bench/follow_quality.py --sections=sequences``): only the six gestures' mean past the reach
+moves (0.085 / 0.094 -> 0.079 / 0.088, tuned / held-out); no within-20% share.
+
 Measured with :func:`~behaviors.mop.validity.unbegun` as it is, none kept (tuned joints, seeds
 201-210 and 300-309, unrelated motions through the follower; true ones: the sized gestures of seeds
 201-202, 201-203 while driving). Read mirrored: at every take the last samples' least misfit over
