@@ -12,9 +12,8 @@ table, all from the given seed. Off (0 prints) by default: the frames are then a
 
 from __future__ import annotations
 
-import numpy as np
-
 import cv2
+import numpy as np
 
 from tracking.markers import dictionary_by_name
 
