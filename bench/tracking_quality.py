@@ -42,15 +42,16 @@ from tracking.synthetic import CameraSettings, SyntheticCamera  # noqa: E402
 
 SECTIONS = ("returns", "turns", "clutter")
 RATES = (60.0, 30.0)
+PRINTS = 24   # marker-like prints on the table in the clutter section's second half
 Scene = Iterator[tuple[float, list, list, tuple]]  # t, poses, velocities, occluders
 
 
 class Camera:
     """Rendered frames -> the installation's detector -> table-metre measurements."""
 
-    def __init__(self, seed: int, exposure_s: float = 0.004) -> None:
+    def __init__(self, seed: int, exposure_s: float = 0.004, prints: int = 0) -> None:
         self.cam = SyntheticCamera(CameraSettings(blur_sigma=0.8, noise_sigma=3.0, seed=seed,
-                                                  exposure_s=exposure_s))
+                                                  exposure_s=exposure_s, clutter=prints))
         self.det = plugin.build_detector({})
         self.hi = self.cam.image_to_table_homography()
         self.ht = self.cam.table_to_image_homography()
@@ -192,39 +193,52 @@ def turns(betas: list[float], seed: int) -> dict[str, object]:
 
 # ------------------------------------------------------------------------------- clutter
 def clutter(seeds: list[int]) -> dict[str, object]:
-    """False sightings among hands reaching over circling pucks (every 1.5 s, 1.2 s each)."""
+    """False sightings among hands reaching over circling pucks (every 1.5 s, 1.2 s each); then
+    the same with ``PRINTS`` marker-like prints on the table (``printed``): also the frames
+    showing a puck whose id is not on the table (``false_puck_frames``)."""
     out: dict[str, object] = {}
-    for fps in RATES:
-        false_reads = reads = gone = 0
-        errors: list[float] = []
-        for seed in seeds:
-            cam, trk = Camera(seed, exposure_s=0.008), PuckTracker(plugin.tracker_settings({}))
-            rng = np.random.default_rng(seed)
-            base = [(k + 1, 0.15 + 0.3 * k, 0.2 + 0.4 * rng.random(), 0.0) for k in range(4)]
-            for f in range(int(4.0 * fps)):
-                t = f / fps
-                w = 0.4 / 0.09
-                poses = [(pid, x + 0.09 * math.cos(w * t + pid), y + 0.09 * math.sin(w * t + pid),
-                          wrap_angle(a + t)) for pid, x, y, a in base]
-                vels = [(-0.4 * math.sin(w * t + p[0]), 0.4 * math.cos(w * t + p[0]))
-                        for p in base]
-                occ = scripted_hands(t, (1.2, 0.8), every_s=1.5, duration_s=1.2, seed=seed)
-                fr = cam.cam.render(poses, t, vels, occ)
-                ms = cam.read(fr, trk.predict(t))
-                truth = {pid: (x, y) for pid, x, y, _ in poses}
-                for m in ms:
-                    reads += 1
-                    tx = truth.get(m.id)
-                    false_reads += tx is None or math.hypot(m.x - tx[0], m.y - tx[1]) > 0.02
-                pucks = {p.id: p for p in trk.step(ms, t)}
-                for pid, (x, y) in truth.items():
-                    if pid in pucks:
-                        errors.append(1000 * math.hypot(pucks[pid].x - x, pucks[pid].y - y))
-                    elif t > 0.2:
-                        gone += 1
-        out[f"{int(fps)}hz"] = {"reads": reads, "false_sightings": false_reads,
-                                **_shown(errors, gone)}
+    for prints in (0, PRINTS):
+        for fps in RATES:
+            key = f"{int(fps)}hz" + (f"_printed_{prints}" if prints else "")
+            out[key] = _clutter_run(seeds, fps, prints)
+            if not prints:
+                del out[key]["false_puck_frames"]   # type: ignore[attr-defined]
     return out
+
+
+def _clutter_run(seeds: list[int], fps: float, prints: int) -> dict[str, object]:
+    """One rate of the clutter section, ``prints`` prints on the table."""
+    false_reads = reads = gone = false_shown = 0
+    errors: list[float] = []
+    for seed in seeds:
+        cam = Camera(seed, exposure_s=0.008, prints=prints)
+        trk = PuckTracker(plugin.tracker_settings({}))
+        rng = np.random.default_rng(seed)
+        base = [(k + 1, 0.15 + 0.3 * k, 0.2 + 0.4 * rng.random(), 0.0) for k in range(4)]
+        for f in range(int(4.0 * fps)):
+            t = f / fps
+            w = 0.4 / 0.09
+            poses = [(pid, x + 0.09 * math.cos(w * t + pid), y + 0.09 * math.sin(w * t + pid),
+                      wrap_angle(a + t)) for pid, x, y, a in base]
+            vels = [(-0.4 * math.sin(w * t + p[0]), 0.4 * math.cos(w * t + p[0]))
+                    for p in base]
+            occ = scripted_hands(t, (1.2, 0.8), every_s=1.5, duration_s=1.2, seed=seed)
+            fr = cam.cam.render(poses, t, vels, occ)
+            ms = cam.read(fr, trk.predict(t))
+            truth = {pid: (x, y) for pid, x, y, _ in poses}
+            for m in ms:
+                reads += 1
+                tx = truth.get(m.id)
+                false_reads += tx is None or math.hypot(m.x - tx[0], m.y - tx[1]) > 0.02
+            pucks = {p.id: p for p in trk.step(ms, t)}
+            false_shown += sum(pid not in truth for pid in pucks)
+            for pid, (x, y) in truth.items():
+                if pid in pucks:
+                    errors.append(1000 * math.hypot(pucks[pid].x - x, pucks[pid].y - y))
+                elif t > 0.2:
+                    gone += 1
+    return {"reads": reads, "false_sightings": false_reads,
+            "false_puck_frames": false_shown, **_shown(errors, gone)}
 
 
 def main() -> None:

@@ -21,6 +21,7 @@ from typing import Sequence
 import cv2
 import numpy as np
 
+from tracking.clutter import draw_clutter
 from tracking.hands import Occluder, hand_polygons, scripted_hands  # noqa: F401  (re-exported)
 from tracking.markers import dictionary_by_name  # noqa: F401  (re-exported)
 from tracking.optics import Optics
@@ -36,7 +37,8 @@ class CameraSettings:
     ``exposure_s``: shutter time for motion blur; ``marker_size``: printed marker side including
     its black border (m); ``puck_diameter`` (m); ``margin``: fraction of the image left around the
     table; ``full_frame_optics``: apply blur and distortion to the whole frame instead of only
-    where pucks and hands changed it (same image, slower; for checking)."""
+    where pucks and hands changed it (same image, slower; for checking); ``clutter``: how many
+    marker-like prints lie on the table (:mod:`tracking.clutter`)."""
 
     resolution: tuple[int, int] = (1280, 720)
     table: tuple[float, float] = (1.2, 0.8)
@@ -53,6 +55,7 @@ class CameraSettings:
     margin: float = 0.04
     seed: int = 0
     full_frame_optics: bool = False  # reference path: blur and distort the whole frame
+    clutter: int = 0  # marker-like prints on the table (tracking.clutter); 0: none
 
 
 @dataclass
@@ -166,6 +169,9 @@ class SyntheticCamera:
         grain = self._rng.normal(0.0, 4.0, (self.h // 8 + 1, self.w // 8 + 1)).astype(np.float32)
         grain = cv2.resize(grain, (self.w, self.h), interpolation=cv2.INTER_CUBIC)
         self.background = np.clip(bg.astype(np.float32) + grain, 0, 255).astype(np.uint8)
+        if s.clutter > 0:
+            self.background = draw_clutter(self.background, H, s.table, self.dictionary,
+                                           s.clutter, s.seed)
         # Lighting: a smooth gain from a lamp off one corner, multiplied into every frame.
         yy, xx = np.mgrid[0:self.h, 0:self.w].astype(np.float32)
         r = np.hypot((xx - 0.2 * self.w) / self.w, (yy - 0.15 * self.h) / self.h)
