@@ -384,7 +384,11 @@ class Reactor(GenerationStep):
     def shift(self, dx: float, dy: float) -> None:
         """The latest step's end moved by (dx, dy) metres, the step with it, cut to the
         largest step (Behavior.largest_step) from where it began; a push by another body, not
-        the character's own motion (its next velocity starts from there)."""
+        the character's own motion (its next velocity starts from there). Counted as its own
+        motion, two of one main beside a scripted visitor (60 s, 60 Hz) left their lone
+        figures: the bully's speed while the main stands over moving 1.27 -> 0.83 (stepped in
+        turn 1.01; so 1.19), the afraid one's orbit 0.42 -> 0.58 rad/s (in turn 0.49; so
+        0.45)."""
         x, y, d = self.pose
         sx, sy = self._last_step
         bx, by = x - sx, y - sy
