@@ -60,17 +60,17 @@ def _together(b, compiled: bool, table, rate, start, goal, speed, seconds):
     return np.array(shown), np.array(gen)
 
 
-def test_three_afraid_ones_keep_apart_and_their_shown_poses_follow_their_steps():
-    # three afraid ones of a 33 Hz main on 1.2 x 0.8 m: stepped in turn, each against the
-    # others' latest shown poses, one's shown pose fell 6.96 largest steps behind its
-    # generation pose (its step went round a body the shown pose could not pass)
-    b = _trained("afraid")
-    args = ((0.0, 0.0, 1.2, 0.8), 32.59, (0.7634, 0.5855), (1.0569, 0.3636), 0.406, 3.0)
+def test_three_lovers_keep_apart_and_their_shown_poses_follow_their_steps():
+    # three lovers of a 33 Hz main on 1.2 x 0.8 m: stepped in turn, each against the others'
+    # latest shown poses, one's shown pose fell 7.01 largest steps behind its generation pose
+    # (its step went round a body the shown pose could not pass)
+    b = _trained("lover")
+    args = ((0.0, 0.0, 1.2, 0.8), 32.59, (0.7634, 0.5855), (1.0569, 0.3636), 0.406, 2.0)
     shown, gen = _together(b, True, *args)
     py_shown, py_gen = _together(b, False, *args)
     assert np.array_equal(shown, py_shown) and np.array_equal(gen, py_gen)  # Python == compiled
     lag = np.hypot(*(shown - gen).transpose(2, 0, 1)).max() / b.largest_step
-    assert lag <= 1.5, lag                                               # measured 0.78
+    assert lag <= 1.5, lag                                               # measured 1.20
     gap = min(np.hypot(*(shown[:, i] - shown[:, j]).T).min()
               for i in range(3) for j in range(i + 1, 3))
     assert gap / SIZE >= 0.95, gap / SIZE                                # measured 1.00
