@@ -35,8 +35,10 @@ from behaviors.puppet_master.engine import Reactor
 from behaviors.puppet_master.apart import EDGE_EPS
 from behaviors.puppet_master.table_boundary import clamp_to_table, table_reach
 
-TOGETHER_PASSES = 8   # joint passes over the overlapping pairs (apart_together)
-SLIDE_GAIN = 0.2      # a point held by an edge slides along it where that gains this share
+# joint passes over the overlapping pairs (apart_together), and the least share of the push a
+# point held by an edge gains sliding along it (_way): first choices, not tuned
+TOGETHER_PASSES = 8
+SLIDE_GAIN = 0.2
 
 
 def apart_together(xy: list[list[float]], least: Sequence[Sequence[float]],
