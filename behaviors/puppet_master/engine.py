@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from typing import Iterator
 
 import numpy as np
 
@@ -33,7 +34,7 @@ from behaviors.puppet_master.behavior import Behavior, DemonstrationError  # noq
 from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S,
                                                still_span)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
-from behaviors.puppet_master.generation import StepSmoother, target_position
+from behaviors.puppet_master.generation import StepSmoother, capped, target_position
 from behaviors.puppet_master.look import HEADING_MIN_SPEED
 from behaviors.puppet_master.params import ParameterError, Params  # noqa: F401
 from behaviors.puppet_master.resample import CausalResampler
@@ -104,11 +105,11 @@ class Reactor(GenerationStep):
 
     # -- life cycle ---------------------------------------------------------------------------
 
-    def start(self, t: float, main_x: float, main_y: float,
-              main_dir: float) -> tuple[float, float, float]:
+    def start(self, t: float, main_x: float, main_y: float, main_dir: float,
+              at: tuple[float, float] | None = None) -> tuple[float, float, float]:
         """Start at time ``t``: the reactor takes the demonstration's first pose relative to its
-        main, carried onto this main pose (kept on the table); both are taken to have been at
-        rest for the last window. Returns the reactor pose."""
+        main, carried onto this main pose (kept on the table), or the place ``at`` (metres);
+        both are taken to have been at rest for the last window. Returns the reactor pose."""
         b, p = self.behavior, self.behavior.params
         if not all(math.isfinite(v) for v in (t, main_x, main_y, main_dir)):
             raise ParameterError(f"reactor start pose ({t}, {main_x}, {main_y}, {main_dir}) "
@@ -116,7 +117,9 @@ class Reactor(GenerationStep):
         md = wrap_angle(main_dir)
         fwd, left, rel_look = b.start_pose
         rx, ry = clamp_to_table(*target_position(main_x, main_y, md, fwd, left), self.table)
-        if self.obstacles:   # two reactors of one main would start on one spot
+        if at is not None:
+            rx, ry = clamp_to_table(*at, self.table)
+        elif self.obstacles:   # two reactors of one main would start on one spot
             rx, ry = keep_apart(rx, ry, self.obstacles, self.table)
         rd = wrap_angle(md + rel_look)
         self.resampler = CausalResampler(p.max_extrapolation)
@@ -248,14 +251,21 @@ class Reactor(GenerationStep):
         """Feed one main sample; returns the rows (t, x, y, dir) of every generation step now
         due (grid times <= t). The first call starts the reactor and returns its start row.
         A sample that is not finite or not later than the previous one is ignored."""
+        return list(self.stepping(t, main_x, main_y, main_dir))
+
+    def stepping(self, t: float, main_x: float, main_y: float,
+                 main_dir: float) -> Iterator[tuple[float, float, float, float]]:
+        """:meth:`advance` one step at a time: each row as its step is made (the reactors of
+        a table stepped together move the ends apart between two, together.py)."""
         if not self.started:
             self.start(t, main_x, main_y, main_dir)
-            return [(t, *self.pose)]
+            yield (t, *self.pose)
+            return
         isfinite = math.isfinite
         resampler = self.resampler
         if not (isfinite(t) and isfinite(main_x) and isfinite(main_y) and isfinite(main_dir)) \
                 or t <= (resampler.last_time or -math.inf):
-            return []
+            return
         # plain floats from here on: numpy scalars (rows of a numpy array) carry the same
         # doubles but make every later operation of the step several times slower
         t, main_x, main_y, main_dir = float(t), float(main_x), float(main_y), float(main_dir)
@@ -266,20 +276,18 @@ class Reactor(GenerationStep):
             behind = t - (t0 + (self.i + 1) / rate)
             if behind > self.max_backlog:
                 self.i = int(math.floor((t - self.max_backlog - t0) * rate))
-        rows: list[tuple[float, float, float, float]] = []
         step, at = self._step_compiled if self.compiled else self._step, resampler.at
         while True:  # steps strictly before this sample: extrapolate from earlier samples
             g = t0 + (self.i + 1) / rate
             if g >= t - eps:
                 break
-            rows.append(step(g, *at(g)))
+            yield step(g, *at(g))
         resampler.push(t, main_x, main_y, main_dir)
         while True:
             g = t0 + (self.i + 1) / rate
             if g > t + eps:
                 break
-            rows.append(step(g, *at(g)))
-        return rows
+            yield step(g, *at(g))
 
     def update(self, t: float, main_x: float, main_y: float,
                main_dir: float) -> tuple[float, float, float]:
@@ -301,6 +309,13 @@ class Reactor(GenerationStep):
             self.advance(t, main_x, main_y, main_dir)
         finally:
             rows, self._obstacle_rows = self._obstacle_rows, None
+        return self.shown_at(t, rows)
+
+    def shown_at(self, t: float, rows: np.ndarray | None = None) -> tuple[float, float, float]:
+        """The pose shown at ``t`` after the steps due (update); ``rows``: the obstacles as
+        rows (_obstacle_array), made here where None and compiled."""
+        if rows is None and self.compiled:
+            rows = self._obstacle_array()
         x, y, d = self.pose
         lag = t - self.t
         if self._shown is not None and (self.obstacles or self._lagging):
@@ -365,6 +380,25 @@ class Reactor(GenerationStep):
         self._shown = (sx, sy, t)
         self._lagging = (sx, sy) != (x, y)
         return sx, sy
+
+    def shift(self, dx: float, dy: float) -> None:
+        """The latest step's end moved by (dx, dy) metres, the step with it, cut to the
+        largest step (Behavior.largest_step) from where it began; a push by another body, not
+        the character's own motion (its next velocity starts from there). Counted as its own
+        motion, two of one main beside a scripted visitor (60 s, 60 Hz) left their lone
+        figures: the bully's speed while the main stands over moving 1.27 -> 0.83 (stepped in
+        turn 1.01; so 1.19), the afraid one's orbit 0.42 -> 0.58 rad/s (in turn 0.49; so
+        0.45)."""
+        x, y, d = self.pose
+        sx, sy = self._last_step
+        bx, by = x - sx, y - sy
+        sx, sy = capped(sx + dx, sy + dy, self.behavior.largest_step)
+        x, y = clamp_to_table(bx + sx, by + sy, self.table)
+        sx, sy = x - bx, y - by
+        self.pose, self._last_step = (x, y, d), (sx, sy)
+        self._fs[[sk.RX, sk.RY, sk.STEP_X, sk.STEP_Y]] = x, y, sx, sy
+        self._fs[[sk.REACT_X, sk.REACT_Y]] = x, y
+        self.react_motion.x, self.react_motion.y = x, y
 
     def _obstacle_array(self) -> np.ndarray:
         """The obstacles as rows (k, 3) (x, y, least distance m): a view of a buffer kept

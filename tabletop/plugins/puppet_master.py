@@ -38,7 +38,7 @@ from __future__ import annotations
 import functools
 import logging
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
@@ -47,6 +47,7 @@ from tabletop.registry import BuildContext
 from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader, Posted,
                                                   bound_characters, singles)
 from tabletop.plugins.puppet_master_mains import board as shared_board
+from tabletop.plugins.puppet_master_together import Together, group_of
 from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
 
 log = logging.getLogger("tabletop")
@@ -147,9 +148,13 @@ class PuppetMasterEngine:
                  designer: dict | None = None,
                  rate_hz: float | None = None,
                  board: Board | None = None, delayed: set[str] | None = None,
-                 keep_apart: bool = True, cycle: set[str] | None = None) -> None:
+                 keep_apart: bool = True, cycle: set[str] | None = None,
+                 group: Together | None = None) -> None:
         self.name, self.main, self.table = name, main, (0.0, 0.0, float(table[0]), float(table[1]))
         self.board = board if board is not None else Board()
+        self.group = group          # the engines stepped together (puppet_master_together)
+        if group is not None:
+            group.join(self)
         self.mains = MainReader(main, set(delayed or ()), self.board, set(cycle or ()))
         self.keep_apart = keep_apart
         self.color, self.size, self.rate_hz = color, size, rate_hz
@@ -187,15 +192,27 @@ class PuppetMasterEngine:
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
         self.board.begin(frame)
-        out = self._step(frame)
+        out = self.group.step(self, frame) if self.group is not None else None
+        if out is None:
+            out = self._step(frame)
         c = out[0]
         self.last_pose = (c.x, c.y, c.heading)
         self.board.post(self.name, Posted(c.x, c.y, c.heading, c.size, c.valid))
         return out
 
-    def _step(self, frame: Frame) -> tuple[CharacterState, ...]:
+    def prepare(self, frame: Frame) -> tuple[str, Any]:
+        """The group's step (puppet_master_together): ("react", the main pose), ("done",
+        this tick's characters: waiting) or ("alone", None): a take steps at its own place."""
         if self.hold is not None:
-            return self.hold(frame)
+            return "alone", None
+        pose = self._main_pose(frame)
+        if self.reactor is None or pose is None:
+            return "done", (self._waiting(frame),)
+        return "react", pose
+
+    def _main_pose(self, frame: Frame) -> tuple[float, float, float] | None:
+        """The main pose to react to this tick (the reactor rebound where the main in use
+        changed; the main's last pose while it is absent), or None."""
         r = self.reactor
         near = r.pose[:2] if r is not None and r.started else None
         previous = self.mains.chosen
@@ -206,11 +223,23 @@ class PuppetMasterEngine:
             self.last_main = pose
         elif self.last_main is not None:
             pose = self.last_main            # keeps reacting to the main's last pose
+        return pose
+
+    def _step(self, frame: Frame) -> tuple[CharacterState, ...]:
+        if self.hold is not None:
+            return self.hold(frame)
+        r = self.reactor
+        pose = self._main_pose(frame)
         if r is None or pose is None:
             return (self._waiting(frame),)
         r.obstacles = self.board.others(self.name, self.size) if self.keep_apart else []
         x, y, d = r.update(frame.t, *pose)
-        return (self.character(x, y, d, True, self._label(), pose[:2]),)
+        return (self.reacting(x, y, d, pose),)
+
+    def reacting(self, x: float, y: float, d: float,
+                 main: tuple[float, float, float]) -> CharacterState:
+        """The reacting character drawn at (x, y) heading ``d``, looking at its main."""
+        return self.character(x, y, d, True, self._label(), main[:2])
 
     def character(self, x: float, y: float, d: float, valid: bool, label: str,
                   look_at: tuple[float, float] | None = None) -> CharacterState:
@@ -391,7 +420,8 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                                 tuple(options["color"]), options["size"], designer,
                                 options["rate_hz"], board=shared_board(ctx.shared),
                                 delayed=delayed, keep_apart=options["keep_apart"],
-                                cycle=cycle)
+                                cycle=cycle,
+                                group=group_of(options, ctx, delayed, _characters_of))
     engine.folder = options["behavior"]   # the studio reloads it when it changes on disk
     engine.folder_read = read
     engine.problem = problem

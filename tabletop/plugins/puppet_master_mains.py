@@ -18,9 +18,11 @@ character still waiting for its own main is absent, whatever the order, except t
 characters of a cycle with it (a mutual pair), which start from each other's waiting places.
 
 Every Puppet Master reactor posts its pose to the board; a reactor keeps at least the sum of
-both body radii (half the ``size``) from every other reactor: from the ones stepped earlier in
-this tick at their new pose, from the later ones at their previous pose. The later of two
-therefore always ends the tick clear of the earlier.
+both body radii (half the ``size``) from every other reactor. The reactors of an installation
+step together at the first Puppet Master engine's step of a tick (puppet_master_together):
+each against the others' poses of the previous tick, then their steps' ends and shown poses
+are moved apart jointly, so no engine order decides who yields. One that cannot step with them
+(it reads a character made later in the tick) keeps apart from the others' latest poses.
 
 Positions in table metres, angles in radians.
 """

@@ -180,3 +180,18 @@ def test_a_chasing_ring_keeps_apart_in_a_corner():
     out = run(build(engines), frames)
     gap = np.hypot(*(out["a"][5:, :2] - out["c"][5:, :2]).T) / 0.08
     assert gap.min() >= 0.9, gap.min()
+
+
+def test_reactors_on_one_main_step_together_whatever_their_order():
+    # each plans against the others' poses of the previous tick, then their ends and shown
+    # poses move apart together (behaviors.puppet_master.together): listed in another order,
+    # every character moves the same to the last digit (stepped in engine order, the later of
+    # two yielded to the earlier)
+    def three(order):
+        engines = {k: _engine(k, b, {"puck": 1})
+                   for k, b in (("a", "lover"), ("b", "stalker"), ("c", "afraid"))}
+        return run(build([engines[k] for k in order]), visitor_frames(3))
+
+    first, swapped = three("abc"), three("cba")
+    for k in "abc":
+        assert np.array_equal(first[k], swapped[k]), k
