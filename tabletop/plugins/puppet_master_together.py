@@ -12,16 +12,30 @@ off, a designer's take and a reactor waiting for its main).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, Protocol
 
 from tabletop.frames import CharacterState, Frame
 from tabletop.plugins.puppet_master_mains import bound_characters
 
 if TYPE_CHECKING:
-    from tabletop.plugins.puppet_master import PuppetMasterEngine
     from tabletop.registry import BuildContext
 
 GROUP_KEY = "puppet_master.together"
+
+
+class PuppetMasterEngine(Protocol):
+    """What the group reads of a Puppet Master engine (tabletop.plugins.puppet_master)."""
+
+    name: str
+    reactor: Any
+    board: Any
+    size: float                 # body length, metres
+    table: tuple[float, float, float, float]    # x0, y0, x1, y1, metres
+
+    def prepare(self, frame: Frame) -> tuple[str, Any]: ...
+
+    def reacting(self, x: float, y: float, d: float,
+                 main: tuple[float, float, float]) -> CharacterState: ...
 
 
 class Together:
