@@ -312,10 +312,10 @@ class StepSenses:
         most the raw step / unbounded 5 (2) / 30 (14) / 13 (7) / 17 (7), 6 (2) / 27 (12) / 13
         (7) / 17 (7) (deep 0.026-0.031 -> 0.036-0.039; means 0.322 / 0.253 / 0.273); the
         governor's output at least the straightness x the raw step 8 (3) / 24 (11) / 15 (6) /
-        22 (8) (deep 0.038-0.045; means 0.344 / 0.274 / 0.295: the ratio rises on every kind of
-        path, the first 0.25 s over the band unchanged); that with this read held while
-        _main_stands holds 6 (3) / 27 (16) / 14 (6) / 19 (8) (0.342 / 0.255 / 0.290). None
-        kept."""
+        22 (8) (deep 0.038-0.045, seeds 46, 50 slow met; means 0.344 / 0.274 / 0.295: the ratio
+        rises on every kind of path, the 10 slow paths over the band stay over, seed 311 joins
+        them); that with this read held while _main_stands holds 6 (3) / 27 (16) / 14 (6) / 19
+        (8) (0.342 / 0.255 / 0.290). None kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
