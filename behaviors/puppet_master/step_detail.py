@@ -127,7 +127,10 @@ class StepDetail(StepSenses):
         # (slow / loops / fast 0.553 / 0.585 / 0.610, its designer 0.579 / 0.667 / 0.729,
         # shown 0.633) misses where its designer meets it on 7 paths, the reverse on 3. That cap
         # at least the moment's own motion with its carried main step: world places 0.240 ->
-        # 0.269, all 0.520 -> 0.524 (the match's moments are the gap). Not kept
+        # 0.269, all 0.520 -> 0.524 (the match's moments are the gap); the stalker alone, Python
+        # step, its misses (the engine's) on those sets against 5 (2) / 29 (14) / 12 (6) / 15 (6):
+        # 7 (4) / 27 (13) / 13 (8) / 15 (5), orbit misses 11 -> 10; at least its own step alone
+        # (no carried main step) 7 (4) / 25 (11) / 14 (9) / 18 (9). Not kept
         sx, sy = sm.push(sx, sy)
         if self._keep_length > 0.0:
             # a character that walks with its main at a place held in the world (the lover):
