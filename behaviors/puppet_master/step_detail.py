@@ -119,6 +119,18 @@ class StepDetail(StepSenses):
         # 3-5.5 cm ahead of the main that came back at it, while its raw steps close faster than
         # the moment's (10.9-13.4 against 9.5-10.2 mm a step): the main passes it beside; its
         # match holds those moments 5.1-7.2 steps (9.9-15.1 shown), 61-64% left by a jump
+        # Its orbit beside a walking main turning over 0.5 rad/s (seeds 0, 131 fast, 133 loops,
+        # 44, 51, 131 slow; the bench's 1 s mean of its own angular rate round the main): its
+        # matched moments' own 0.577 rad/s, raw 0.544, this smooth 0.538, the governor's filter
+        # 0.524, out 0.520; at world places (21% of those steps) 0.351 -> 0.240 (the place's
+        # cap), main-frame 0.636 -> 0.596. On seeds 0-5, 40-51, 128-139, 300-311 its orbit
+        # (slow / loops / fast 0.553 / 0.585 / 0.610, its designer 0.579 / 0.667 / 0.729,
+        # shown 0.633) misses where its designer meets it on 7 paths, the reverse on 3. That cap
+        # at least the moment's own motion with its carried main step: world places 0.240 ->
+        # 0.269, all 0.520 -> 0.524 (the match's moments are the gap); the stalker alone, Python
+        # step, its misses (the engine's) on those sets against 5 (2) / 29 (14) / 12 (6) / 15 (6):
+        # 7 (4) / 27 (13) / 13 (8) / 15 (5), orbit misses 11 -> 10; at least its own step alone
+        # (no carried main step) 7 (4) / 25 (11) / 14 (9) / 18 (9). Not kept
         sx, sy = sm.push(sx, sy)
         if self._keep_length > 0.0:
             # a character that walks with its main at a place held in the world (the lover):

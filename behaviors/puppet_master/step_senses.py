@@ -296,7 +296,26 @@ class StepSenses:
         still/moving misses 16 -> 16 (the rest contact and orbit, the re-matching's spread);
         this read widened to 0.03 m/s 7 (3) / 33 (16) / 15 (9) / 18 (8) (seed 304 slow 0.557,
         loops under the band on 11 paths: their coast lies in a stop's first 0.5 s). None
-        kept."""
+        kept.
+
+        Stage by stage in the bench's stops (Python step, slow paths; m/s, generated / its
+        designer): over the band (seeds 1, 41) a stop's first 0.25 s goes 0.20-0.24 / 0.15-0.16,
+        at walked moments (64-82% of those steps; pace 0.22-0.30) while this read is still false
+        (true on 32-34%); under it (seeds 46, 50) deeper in the stop 0.026-0.031 / 0.047-0.049
+        (shown 0.042), at moments whose demonstrated main stood (74-76%) whose raw steps (0.053-
+        0.057, their pace 0.049-0.053) the linear smooth shortens to 0.037-0.041 and the texture
+        governor's filter to 0.029-0.035; the detail turn and the discs change no length. Its
+        misses (the engine's) per set as above, against 5 (2) / 29 (14) / 12 (6) / 15 (6);
+        still/moving mean slow / loops / fast 0.321 / 0.251 / 0.273 (its designer 0.317 / 0.255
+        / 0.404, shown 0.285). At such stood moments (their main still 0.5 s before too) while
+        this read holds: the smooth kept at the demonstrated straightness (kept_straightness), at
+        most the raw step / unbounded 5 (2) / 30 (14) / 13 (7) / 17 (7), 6 (2) / 27 (12) / 13
+        (7) / 17 (7) (deep 0.026-0.031 -> 0.036-0.039; means 0.322 / 0.253 / 0.273); the
+        governor's output at least the straightness x the raw step 8 (3) / 24 (11) / 15 (6) /
+        22 (8) (deep 0.038-0.045, seeds 46, 50 slow met; means 0.344 / 0.274 / 0.295: the ratio
+        rises on every kind of path, the 10 slow paths over the band stay over, seed 311 joins
+        them); that with this read held while _main_stands holds 6 (3) / 27 (16) / 14 (6) / 19
+        (8) (0.342 / 0.255 / 0.290). None kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
