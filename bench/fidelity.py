@@ -67,6 +67,9 @@ held-out seeds. Measured on seeds 0-5 / 8-13 with K = 4 (mean [least-most] of th
 lover generated alone, tools outside the bench): the lover misses 16.8 [16-18] / 14.4
 [13-15], the engine's alone 6.0 [5-7] / 5.0 [3-6]; the playful friend 2.2 [1-4] / 5.0 [4-6]
 (all of them contact, both ways: 0.000-0.071 against 0.041, its designer 0.022-0.056).
+On held-out seeds 300-311 with K = 6: met 1321-1333 (1331 unperturbed), the engine's alone
+23-29 (23), its friend 0-4 (0; 0 / 3 / 1 / 2 / 0 / 2 / 4, and 4 / 4 at 1 +- 0.004): a single
+run's friend there is no base to judge a change of it by.
 
 What the engine's own misses are, measured on the 54 open paths and 18 pursuits of seeds 0-5,
 8-13, 26-31 (7 / 16 / 16 open, 1 / 3 / 4 pursuit): event figures on both sides of their band
