@@ -152,8 +152,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         # a pause of an action that carried its performer forward (validity.unweighed)
         paused = (rest and UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST)
-        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
-        if scaled:
+        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes; not at rest)
+        if scaled and not rest:
             for c in range(d):
                 tu[c] = m[un0 + c]
             turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
