@@ -154,8 +154,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         paused = (UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST
                   and (rest or resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES)))
-        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes; not at rest)
-        if scaled and not rest:
+        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
+        if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]
             turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)

@@ -344,15 +344,13 @@ class PerformanceFrame:
         strained = best and self._recent_weight[k] > 0.0 and self._recent_dist2(k) > self._accept2
         return probe_allowed(self._acquired < 0, best, bool(self._refused[k]), bool(strained))
 
-    def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray, rest: bool) -> None:
+    def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
         template whose followed state ``gi`` has a reversal near (:func:`reversal_map`) takes
         the size that puts the input's reversal on it (:func:`reversal_size`), in place on the
-        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does. None while the
-        performer rests (``rest``: :func:`~behaviors.mop.tempo.resting`): see
-        :data:`~behaviors.mop.reversal.REVERSAL_MOVE`."""
+        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does."""
         recent = self._recent_x
-        if self.invariance != "scale" or rest or len(recent) < 2 * REVERSAL_LAG:
+        if self.invariance != "scale" or len(recent) < 2 * REVERSAL_LAG:
             return
         r = np.empty(self.dim)
         buf = np.array(recent[-2 * REVERSAL_LAG:])[None]

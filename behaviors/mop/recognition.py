@@ -143,7 +143,7 @@ class Recognition:
                              self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
                              self._num, self._den, self._prior, self._least)
-        self._reversal_sizes(x, gi, rest)
+        self._reversal_sizes(x, gi)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
             progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
