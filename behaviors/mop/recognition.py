@@ -100,8 +100,8 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (PAUSE_SAMPLES, backs_first, carried, leapt, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
+                                    still_unbegun, unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -155,12 +155,8 @@ class Recognition:
         # none in a pause of an action that carried its performer forward (validity.unweighed;
         # measured and not kept, nor of one taken validity.TAKEN_PERFORMED past where its attempt
         # began: held-out seeds 108 / 102 sized identical, 0.8906 / 0.8976)
-        # (the pause read over PAUSE_SAMPLES too: validity.PAUSE_SAMPLES)
-        carried_on = carried(self._acquired, self._drive_from, self._drive_peak,
-                             self._drive_moved)
-        paused = rest or carried_on and resting(self._recent_x[1 - PAUSE_SAMPLES:] + [x],
-                                                self._still_radius)
-        weighed = not unweighed(paused, carried_on)
+        weighed = not unweighed(rest, carried(self._acquired, self._drive_from, self._drive_peak,
+                                              self._drive_moved))
         if weighed:
             self._evidence *= self._decay
             self._evidence += raw_ll
