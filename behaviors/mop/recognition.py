@@ -163,9 +163,10 @@ class Recognition:
         # .9040, 101-106 .9062 -> .9072, every seed equal or up, every other figure equal;
         # bench/follow_quality.py held-out sized .9112 -> .9118, bent 10% .4725 -> .4734, but
         # bent 5% .7466 -> .7455, one bent getup wrist .778 -> .733 (not traced). Screened beside
-        # no reversal read at rest (reversal.py), the evidence put back at a rest's onset as it was 3 samples before, where the action
-        # driving then had carried its performer: held-out 102 sized .9053 -> .9100, the wave .455
-        # -> .924 as with the 4 samples; 5 samples back, 108's 0.7x walk wrist .568 -> .545)
+        # no reversal read at rest (reversal.py), the evidence put back at a rest's onset as it was
+        # 3 samples before, where the action driving then had carried its performer: held-out 102
+        # sized .9053 -> .9100, the wave .455 -> .924 as with the 4 samples; 5 samples back, 108's
+        # 0.7x walk wrist .568 -> .545)
         weighed = not unweighed(rest, carried(self._acquired, self._drive_from, self._drive_peak,
                                               self._drive_moved))
         if weighed:
