@@ -16,6 +16,20 @@ from behaviors.kernel_cache import compiled
 REVERSAL_LAG = 3
 REVERSAL_COS = 0.0
 REVERSAL_MOVE = 2.0
+# (read at rest too. Measured and not kept, none while the performer rests, tempo.resting over
+# still_samples, follower and group kernel alike: a still input's jitter, 0.7 mm a column, passes
+# REVERSAL_MOVE now and then and at a cosine below 0 half of those times, sizing any template whose
+# turn lies near the paused place; a 0.7x cartwheel ankle sized 1.63 on its still lead-in never
+# drove, held-out seed 108, valid after 30% 0 -> 0.95. With validity.PAUSE_SAMPLES,
+# bench/follow_seeds.py --sections=sized,unrelated,sequences 107-112: sized mean .9036 -> .9077,
+# 108 .8906 -> .8987, 112 .9023 -> .9173, but 109 .9028 -> .9017, 111 .9024 -> .9022 (.9032 /
+# .9031 with PAUSE_SAMPLES alone), unrelated 107 .0666 -> .0688; tests/mop/test_refusal.py's
+# crawl-hover gain on an aimless wander 30 -> 29 ticks (a zigzag's end no longer resized at the
+# final rest: 68 / 98 -> 65 / 94 valid ticks).
+# Nor read over validity.PAUSE_SAMPLES too: 108 .8987 -> .8981, 102 .9107 -> .9097, a 0.7x line
+# .478 -> .391, the apex of a turn reads as a rest over four samples. Nor with the sizes taken in
+# the samples before a rest's onset undone there: 108 .8983, the 1x square's pause still driven
+# by the line, which led it on evidence.)
 #: A template's reversal (its states as the input's samples, the sharpest of a run) is a
 #: landmark of the followed state from this many states behind it to this many ahead.
 #: Some lie in a wiggle of the first states, about 1 mm from the first (the figure eight's
