@@ -31,7 +31,7 @@ from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import SHARE_BACK, UNSEEN_END
 from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
-                                    REST_BEHIND, TAKE_AT_REST, TAKEN_PERFORMED)
+                                    REST_BEHIND, TAKEN_PERFORMED)
 from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
@@ -301,8 +301,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         ok = ok and not (spots and once[gb]) and not (
             spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and not (
             spots and 0 < DRIFT_SAMPLES <= drift_run[gb]) and (
-            not spots or acquired[i] == bi or (leads[i] and turn_ok[i] and not sh
-                                               and (TAKE_AT_REST or not rests)))
+            not spots or acquired[i] == bi or (leads[i] and turn_ok[i] and not sh))
         if spots:   # (blocked: taken at a crawl at a small size, not driving)
             blk = acquired[i] != bi and engaged[gb] and sk < BLOCKED_SIZE and crawl[i, 0] > 0
             blocked_n[i] = (blocked_n[i] + 1 if blocked_k[i] == bi else 1) if blk else 0

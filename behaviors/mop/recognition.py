@@ -100,8 +100,8 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (TAKE_AT_REST, backs_first, carried, leapt, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
+                                    still_unbegun, unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -327,10 +327,9 @@ class Recognition:
             # ... nor one barred since it began (blocked)
             self._once[new] = False
             ok = ok and not self._once[bi] and not crawls(self._crawl)
-            # ... nor is it taken while the performer rests (validity.TAKE_AT_REST)
             ok = ok and not self._drifts(bi) and (
                 self._acquired == bi or (leads and turned and not slow and not back
-                                         and not shares and (TAKE_AT_REST or not rests)))
+                                         and not shares))
             # (blocked: taken at a crawl at a small size, not driving)
             blocked = (self._acquired != bi and bool(self._engaged[bi])
                        and self._size[bi] < BLOCKED_SIZE and self._crawl > 0)

@@ -301,13 +301,6 @@ def rests_behind(began: float, progress: float, rests: bool) -> bool:
     return rests and 0 <= REST_BEHIND < began - progress
 
 
-#: Whether a new action (not driving) may be taken while the performer rests (:func:`tempo.
-#: resting`): a still puck performs nothing, yet the gesture's last samples, filled with the
-#: rest, fit a template whose path slows there (a straight stroke ended where the held-out walk
-#: wrist's first stroke turns back: taken 7-20 samples into the final rest).
-TAKE_AT_REST = False
-
-
 #: While the performer rests (:func:`tempo.resting`), every template's recent likelihood (refusal)
 #: and path misfit stay as they were (see the module docstring).
 UNJUDGED_AT_REST = True
