@@ -67,6 +67,11 @@ BENT_WITHIN = 0.1
 SHOWN_AHEAD = 0.03
 #: ... while the input's turning since the gesture began (radians) is under this.
 UNTURNED = 0.25
+#: Whether, while the input has not turned and the action is followed before
+#: :data:`STRAIGHT_TO` of it, its size's growth spares no overrun (:func:`unspared`).
+GROWN_STRAIGHT = True
+#: ... where its template waits: its step there under this share of its longest before.
+WAITS = 0.3
 
 
 def straight(path: np.ndarray) -> bool:
@@ -98,6 +103,30 @@ def before_bends(turns: np.ndarray, source: np.ndarray, starts: np.ndarray,
         bend = source[s + bent[0]]
         out[s:s + n] = (source[s:s + n] >= bend - SHOWN_AHEAD) & (source[s:s + n] < bend)
     return out
+
+
+def waits(starts: np.ndarray, lengths: np.ndarray, path: np.ndarray) -> np.ndarray:
+    """Per state (``path``: its place, 2-D), 1.0 where its template waits: the least of its
+    steps from the state before to the state after is under :data:`WAITS` of the template's
+    longest step up to there, else 0.0."""
+    out = np.zeros(len(path))
+    for s, n in zip(starts.tolist(), lengths.tolist()):
+        step = np.hypot(*np.diff(path[s:s + n], axis=0).T)
+        if step.size < 2:
+            continue
+        before = np.maximum.accumulate(step)
+        for j in range(1, n - 1):
+            least = step[max(j - 1, 0):j + 1].min()
+            out[s + j] = float(least < WAITS * before[j - 1])
+    return out
+
+
+def unspared(turn: float, progress: float) -> bool:
+    """Whether an overrun of an action followed at ``progress`` is not spared by its size's
+    growth (:data:`~behaviors.mop.overrun.GROWN`): the input's turning since the gesture began,
+    ``turn`` (radians), is under :data:`UNTURNED` and ``progress`` under :data:`STRAIGHT_TO`
+    (:data:`GROWN_STRAIGHT`)."""
+    return GROWN_STRAIGHT and abs(turn) < UNTURNED and progress < STRAIGHT_TO
 
 
 def unturned(before: float, turn: float) -> bool:
