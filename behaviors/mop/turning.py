@@ -134,7 +134,7 @@ class Turning:
             self._turn = np.concatenate([turning(p, self._turn_step) for p in path])
             self._before_bend = bends.before_bends(self._turn, b.source, b.starts, b.lengths,
                                                    np.concatenate(path))
-            self._waits = bends.waits(b.starts, b.lengths, np.concatenate(path))
+            self._waits = bends.waits(b.source, b.starts, b.lengths, np.concatenate(path))
 
     def _turned(self, x: np.ndarray, bi: int, g: float) -> bool:
         """After sample ``x``: the input's turning since the gesture began, and whether it fits
