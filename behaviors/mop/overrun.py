@@ -185,7 +185,8 @@ RISE_SAMPLES = 4
 #: ... to beyond this (0: never an overrun) ...
 RISE_AT = 0.9
 #: ... unless the size estimate grew by this factor over :data:`PACE_SAMPLES` (an input larger
-#: than the estimate lies beyond the path at it while its progress waits: the size converges).
+#: than the estimate lies beyond the path at it while its progress waits: the size converges);
+#: not where its template waits while the input goes on straight (bends.unspared).
 GROWN = 1.01
 #: Whether an action that overran at the sample before stays overrun while the input runs on,
 #: its size growing or not (:data:`GROWN` spares an overrun's onset only; see the docstring).
