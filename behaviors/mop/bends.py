@@ -40,7 +40,13 @@ at 0.10-0.15 of it (its size still converging as it goes on to its larger end: t
 input until it stops). Through the whole wait: a bent dance ankle (waiting at 0.10-0.23, as
 the getup does) hidden 5 ticks at 0.20-0.25 (held-out redrawn bent 5% 0.7466 -> 0.7441); at
 any state before :data:`STRAIGHT_TO`: true figure eights at 1.4x 3-4 ticks at 0.28-0.29.
-FIGURES
+``OPENBLAS_NUM_THREADS=1 bench/follow_seeds.py --sections=sized,unrelated,sequences``, seeds
+101-106: straight strokes along a template's own first direction told valid worst 0.219 ->
+0.168 (104), mean 0.155 -> 0.135 (101 0.116 -> 0.093, 103 0.176 -> 0.154, 105 0.130 -> 0.104);
+``--sections=unrelated`` 107-112: 0.190 -> 0.161 (110), mean 0.143 -> 0.126; every sized,
+unrelated (103's mirrored square 0.1030 too) and sequences figure identical.
+``bench/follow_quality.py``: held-out own strokes told max 0.116 -> 0.093 (within its 0.10),
+every other figure identical.
 """
 
 from __future__ import annotations
