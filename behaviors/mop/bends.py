@@ -26,6 +26,27 @@ every seed (valid after 30% 0.9076 / 0.8938 / 0.9162 / 0.9028 / 0.8937 / 0.8910,
 0.8851 / 0.8938 / 0.9087 / 0.8989 / 0.8972). ``bench/follow_quality.py``: 26 figures differ,
 every one better: a diagonal after a gesture 0.116 -> 0.061 (held-out 0.132 -> 0.075), after a
 gesture worst 0.160 -> 0.091 (held-out 0.176 -> 0.121), held-out unrelated mean 0.0126 -> 0.0113.
+
+A stroke may also go on past where its template's first stroke ends and waits (its steps under
+:data:`WAITS` of its longest before: the held-out getup wrist goes out 6 cm to 0.13 of it and
+stays within 3 mm there to 0.30). Taken on the stroke, the getup drove it while its followed
+state waited at 0.17-0.18 and the input went on straight 1-2 cm past it, spared by the
+overrun's size growth (:data:`~behaviors.mop.overrun.GROWN`: its estimate grew 0.94 -> 1.05 as
+the input ran on): 4-12 ticks a draw. So, while the input has not turned (:data:`UNTURNED`) and
+the action is followed before :data:`STRAIGHT_TO` of it, within :data:`WAIT_AHEAD` of where its
+template's wait began, the growth spares no overrun (:func:`unspared`; follower and group
+alike). A true getup at 0.7-1.2x is shown as before; at 1.4-1.5x it is not shown for 5-6 ticks
+at 0.10-0.15 of it (its size still converging as it goes on to its larger end: the stroke's
+input until it stops). Through the whole wait: a bent dance ankle (waiting at 0.10-0.23, as
+the getup does) hidden 5 ticks at 0.20-0.25 (held-out redrawn bent 5% 0.7466 -> 0.7441); at
+any state before :data:`STRAIGHT_TO`: true figure eights at 1.4x 3-4 ticks at 0.28-0.29.
+``OPENBLAS_NUM_THREADS=1 bench/follow_seeds.py --sections=sized,unrelated,sequences``, seeds
+101-106: straight strokes along a template's own first direction told valid worst 0.219 ->
+0.168 (104), mean 0.155 -> 0.135 (101 0.116 -> 0.093, 103 0.176 -> 0.154, 105 0.130 -> 0.104);
+``--sections=unrelated`` 107-112: 0.190 -> 0.161 (110), mean 0.143 -> 0.126; every sized,
+unrelated (103's mirrored square 0.1030 too) and sequences figure identical.
+``bench/follow_quality.py``: held-out own strokes told max 0.116 -> 0.093 (within its 0.10),
+every other figure identical.
 """
 
 from __future__ import annotations
@@ -54,6 +75,13 @@ BENT_WITHIN = 0.1
 SHOWN_AHEAD = 0.03
 #: ... while the input's turning since the gesture began (radians) is under this.
 UNTURNED = 0.25
+#: Whether, while the input has not turned and the action is followed before
+#: :data:`STRAIGHT_TO` of it, its size's growth spares no overrun (:func:`unspared`).
+GROWN_STRAIGHT = True
+#: ... where its template waits: its step there under this share of its longest before.
+WAITS = 0.3
+#: ... within this (progress) of where the wait began.
+WAIT_AHEAD = 0.06
 
 
 def straight(path: np.ndarray) -> bool:
@@ -85,6 +113,37 @@ def before_bends(turns: np.ndarray, source: np.ndarray, starts: np.ndarray,
         bend = source[s + bent[0]]
         out[s:s + n] = (source[s:s + n] >= bend - SHOWN_AHEAD) & (source[s:s + n] < bend)
     return out
+
+
+def waits(source: np.ndarray, starts: np.ndarray, lengths: np.ndarray,
+          path: np.ndarray) -> np.ndarray:
+    """Per state (``source``: its progress; ``path``: its place, 2-D), 1.0 where its template
+    waits, within :data:`WAIT_AHEAD` of where the wait began: the least of its steps from the
+    state before to the state after is under :data:`WAITS` of the template's longest step up
+    to there; else 0.0."""
+    out = np.zeros(len(path))
+    for s, n in zip(starts.tolist(), lengths.tolist()):
+        step = np.hypot(*np.diff(path[s:s + n], axis=0).T)
+        if step.size < 2:
+            continue
+        before = np.maximum.accumulate(step)
+        began = np.inf
+        for j in range(1, n - 1):
+            least = step[max(j - 1, 0):j + 1].min()
+            if least < WAITS * before[j - 1]:
+                began = min(began, source[s + j])
+                out[s + j] = float(source[s + j] <= began + WAIT_AHEAD)
+            else:
+                began = np.inf
+    return out
+
+
+def unspared(turn: float, progress: float) -> bool:
+    """Whether an overrun of an action followed at ``progress`` is not spared by its size's
+    growth (:data:`~behaviors.mop.overrun.GROWN`): the input's turning since the gesture began,
+    ``turn`` (radians), is under :data:`UNTURNED` and ``progress`` under :data:`STRAIGHT_TO`
+    (:data:`GROWN_STRAIGHT`)."""
+    return GROWN_STRAIGHT and abs(turn) < UNTURNED and progress < STRAIGHT_TO
 
 
 def unturned(before: float, turn: float) -> bool:

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from behaviors.mop import overrun, speed_profile, tempo
+from behaviors.mop import bends, overrun, speed_profile, tempo
 
 
 class Validity:
@@ -55,11 +55,17 @@ class Validity:
         lo = int(b.starts[k])
         g_pace, x_pace, s_pace = self._tempo_past[-overrun.PACE_SAMPLES]
         g_rise, x_rise, _ = self._tempo_past[-overrun.RISE_SAMPLES]
+        # (its size's growth spares nothing while the input goes on straight: bends.unspared)
+        j = int(g[k])
+        at = float(b.source[j] + (g[k] - j) * (b.source[min(j + 1, lo + int(b.lengths[k]) - 1)]
+                                               - b.source[j]))
+        straight = (self._turn is not None and self._waits[j] > 0.0
+                    and bends.unspared(self._turn_in, at))
         out = bool(overrun.overruns(
             b.means, self._arc, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
             self._first_z[k], self._anchor, x, x_rise, x_pace, float(g[k] - lo),
             float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
-            self.sigma ** 2 * self.dim, float(self.dim), held))
+            self.sigma ** 2 * self.dim, float(self.dim), held, not straight))
         self._overran_k = k if out else -1
         # ... nor while it waits where its template slows and the input keeps its speed, at this
         # sample and the one before (speed_profile.outpaces; not counted as an overrun)

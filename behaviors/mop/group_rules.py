@@ -36,6 +36,9 @@ class GroupRules:
                                       else np.zeros(len(f.bank.means)) for f in fs])
         self._before_bend = np.concatenate([f._before_bend for f in fs])   # (bends.before_bends)
         self._bend_hidden = np.zeros(m, dtype=bool)   # (bends.unturned)
+        self._straight = np.zeros(m, dtype=bool)   # (bends.unspared, at each state's progress)
+        self._source = np.concatenate([f.bank.source for f in fs]).astype(float)
+        self._waits = np.concatenate([f._waits for f in fs])   # (bends.waits)
         self._turn_steps = np.array([f._turn_step for f in fs], dtype=float)
         self._turn_limits = np.array([f.turn_limit for f in fs], dtype=float)
         self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
@@ -65,7 +68,8 @@ class GroupRules:
                 self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in, self._best,
                 self._bounds, self._ti, self.forward.mean, self._turns, self._turn_steps,
                 self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok,
-                self._before_bend, bends.UNTURNED, self._bend_hidden)
+                self._before_bend, bends.UNTURNED, self._bend_hidden, self._waits, self._source,
+                bends.STRAIGHT_TO if bends.GROWN_STRAIGHT else -np.inf, self._straight)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

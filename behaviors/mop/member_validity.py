@@ -36,9 +36,11 @@ _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 
 
 @compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
-                   _F1, numba.intp, numba.float64, _B1, _F1, numba.float64, _B1), *_CALLS_INTO)
+                   _F1, numba.intp, numba.float64, _B1, _F1, numba.float64, _B1, _F1, _F1,
+                   numba.float64, _B1), *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
-           mean, turns, step, limit, reach, first_steps, ok, before, unturned, hidden) -> None:
+           mean, turns, step, limit, reach, first_steps, ok, before, unturned, hidden, waits,
+           source, straight_to, straight) -> None:
     """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
     (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
     ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
@@ -46,11 +48,16 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
     states within ``reach`` of the followed one (:func:`~behaviors.mop.turning.turn_fits`;
     ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``; and whether its
     best is not shown just before a straight stroke's bend (``before`` (S,), ``unturned``:
-    :func:`bends.unturned <behaviors.mop.bends.unturned>`), into ``hidden``. The same
-    operations in the same order as the follower's own."""
+    :func:`bends.unturned <behaviors.mop.bends.unturned>`), into ``hidden``; and whether its
+    size's growth spares no overrun where its template waits (``waits`` (S,),
+    :func:`bends.waits <behaviors.mop.bends.waits>`; :func:`bends.unspared
+    <behaviors.mop.bends.unspared>`: ``source`` (S,), each state's progress; ``straight_to``:
+    its limit, -inf for never), into
+    ``straight``. The same operations in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi
     for i in range(x.shape[0]):
         hidden[i] = False
+        straight[i] = False
         if not (turning[i] and present[i]):
             continue
         if not has_ref[i]:
@@ -72,6 +79,10 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
             least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
         ok[i] = least <= limit[i]
         hidden[i] = before[off + c] > 0.0 and abs(turn[i]) < unturned
+        g = lo + min(mean[k], n - 1.0)
+        j = int(g)
+        at = source[off + j] + (g - j) * (source[off + min(j + 1, lo + n - 1)] - source[off + j])
+        straight[i] = waits[off + c] > 0.0 and abs(turn[i]) < unturned and at < straight_to
 
 
 @compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,
@@ -134,16 +145,16 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
 
 
 @compiled(numba.boolean[::1](_F2, _I2, _F1, _F2, _F2, _F2, _F2, _B1, _B1, _I1, _I1, _I1, _I1,
-                             _F3, _F2, _F2, _F1, _I1), *_CALLS_INTO)
+                             _F3, _F2, _F2, _F1, _I1, _B1), *_CALLS_INTO)
 def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, at, seen,
-               tempo_x, tempo_g, tempo_s, size, overran_k) -> np.ndarray:
+               tempo_x, tempo_g, tempo_s, size, overran_k, straight) -> np.ndarray:
     """:meth:`Validity._overruns` of every present member that spots, for its best template
     (``size``: each template's), against the samples, followed states and sizes its tempo ring
     keeps (``tempo_x``, ``tempo_g``, ``tempo_s``; ``at``: the slot written next, ``seen``:
     samples so far; as :func:`tempo` reads them, before it writes this one); ``states``,
     ``ti``, ``tc``, ``mc``: as :func:`behaviors.mop.members.conclude` takes them;
-    ``overran_k``: the template each overran at its last sample (-1: none), updated. Out: (M,)
-    flags."""
+    ``overran_k``: the template each overran at its last sample (-1: none), updated;
+    ``straight``: whether its size's growth spares it (:func:`turned`). Out: (M,) flags."""
     out = np.zeros(bounds.size, dtype=np.bool_)
     w = TEMPO_SAMPLES
     back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
@@ -165,7 +176,7 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
             states[:, :d], states[:, 2 * d + 1], start, length, off, tc[gb, sc0:sc0 + d],
             tc[gb, uf0:uf0 + d], tc[gb, co0:co0 + d], anchor[i], x[i], tempo_x[sr, i],
             tempo_x[sp, i], min(mean[gb], length - 1.0), tempo_g[sr, gb], tempo_g[sp, gb],
-            size[gb], tempo_s[sp, gb], m[14], m[0], held)
+            size[gb], tempo_s[sp, gb], m[14], m[0], held, not straight[i])
         if out[i]:
             overran_k[i] = best[i]
         # ... or it waits where its template slows and the input keeps its speed, at this

@@ -67,7 +67,7 @@ MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
-                "_underway_rested", "_has_unseen")
+                "_underway_rested", "_has_unseen", "_straight")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -228,7 +228,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                           take_limit)
     overran = member_validity.overruns(states, ti, mean, tc, mc, vectors[0], vectors[1], present,
                                        m_flags[10], ints[0], ints[3], ints[14], ints[15],
-                                       tempo_x, tempo_g, tempo_s, size, ints[17])
+                                       tempo_x, tempo_g, tempo_s, size, ints[17], m_flags[17])
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
                           m_floats[8], onset, m_flags[2], crawl, ints[10])

@@ -185,7 +185,8 @@ RISE_SAMPLES = 4
 #: ... to beyond this (0: never an overrun) ...
 RISE_AT = 0.9
 #: ... unless the size estimate grew by this factor over :data:`PACE_SAMPLES` (an input larger
-#: than the estimate lies beyond the path at it while its progress waits: the size converges).
+#: than the estimate lies beyond the path at it while its progress waits: the size converges);
+#: not where its template waits while the input goes on straight (bends.unspared).
 GROWN = 1.01
 #: Whether an action that overran at the sample before stays overrun while the input runs on,
 #: its size growing or not (:data:`GROWN` spares an overrun's onset only; see the docstring).
@@ -225,17 +226,18 @@ def arc_at(arc, lo, n, off, g) -> float:
 @compiled(numba.boolean(_FA2, _FA1, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1,
                         _FA1, _FA1, _FA1, _FA1, numba.float64, numba.float64, numba.float64,
                         numba.float64, numba.float64, numba.float64, numba.float64,
-                        numba.boolean), path_kernel)
+                        numba.boolean, numba.boolean), path_kernel)
 def overruns(means, arc, lo, n, off, scale, uf, co, anchor, x, x_rise, x_pace, g, g_rise, g_pace,
-             size, size_pace, path_scale, dims, held) -> bool:
+             size, size_pace, path_scale, dims, held, sparing) -> bool:
     """Whether the input ``x`` departs from the template's path (see the module docstring):
     ``x_rise``, ``g_rise``: the sample and followed state (from the template's first)
     :data:`RISE_SAMPLES` back, ``x_pace``, ``g_pace`` and the size ``size_pace``
     :data:`PACE_SAMPLES` back; the rest as
     :func:`off_path2` (``arc``: each state's path length, rows as ``means``; ``dims``: the
     columns; ``held``: the action overran at the sample before, which its size's growth does
-    not spare beyond :data:`HELD_BEYOND`)."""
-    grown = size > GROWN * size_pace
+    not spare beyond :data:`HELD_BEYOND`; ``sparing``: whether its size's growth may spare it at
+    all, :func:`behaviors.mop.bends.unspared`)."""
+    grown = sparing and size > GROWN * size_pace
     if RISE_AT <= 0.0 or (grown and not (held and GROWN_ONSET_ONLY)):
         return False
     moved2 = 0.0

@@ -128,11 +128,13 @@ class Turning:
         b = self.bank
         self._turn = None
         self._before_bend = np.zeros(len(b.means))   # (bends.before_bends)
+        self._waits = np.zeros(len(b.means))   # (bends.waits)
         if self.dim == 2 and self.invariance != "none":
             path = [b.template(k) * b.scale[k] + b.center[k] for k in range(len(self.names))]
             self._turn = np.concatenate([turning(p, self._turn_step) for p in path])
             self._before_bend = bends.before_bends(self._turn, b.source, b.starts, b.lengths,
                                                    np.concatenate(path))
+            self._waits = bends.waits(b.source, b.starts, b.lengths, np.concatenate(path))
 
     def _turned(self, x: np.ndarray, bi: int, g: float) -> bool:
         """After sample ``x``: the input's turning since the gesture began, and whether it fits
