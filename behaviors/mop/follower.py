@@ -27,8 +27,8 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.kernel_cache import load
-from behaviors.mop import (glitch, overrun, path_kernel, reversal, size_probe, speed_profile,
-                           window_kernel)
+from behaviors.mop import (glitch, halts, overrun, path_kernel, reversal, size_probe,
+                           speed_profile, window_kernel)
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import (OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, glitch_limits,
                                   path_distance)
@@ -53,7 +53,7 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
             path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
             reversal.reversal_size, size_probe.probe_allowed, size_probe.take_probe,
-            fresh_refusal.refuse, speed_profile.outpaces)
+            fresh_refusal.refuse, speed_profile.outpaces, halts.halts)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from behaviors.mop import bends, overrun, speed_profile, tempo
+from behaviors.mop import bends, halts, overrun, speed_profile, tempo
 
 
 class Validity:
@@ -86,3 +86,15 @@ class Validity:
             past[-speed_profile.BACK - ago][1], float(g),
             float(past[-speed_profile.STALL_SAMPLES - ago][0][k]),
             float(past[-1 - ago][2][k] if ago else self._size[k]), self.sigma))
+
+    def _halts(self, k: int, g: float, progress: float, x: np.ndarray) -> bool:
+        """:func:`behaviors.mop.halts.halts` for template ``k`` (bank index) at sample ``x``, the
+        last the tempo keeps (:meth:`_remember_tempo`; ``g``: its followed state, from the
+        first, at ``progress``); with "scale" invariance only, as :meth:`_overruns`."""
+        b, past = self.bank, self._tempo_past
+        if self.invariance != "scale" or len(past) < halts.BACK + 1:
+            return False
+        return bool(halts.halts(
+            b.means, int(b.starts[k]), int(b.lengths[k]), 0, b.scale[k], self._units, x,
+            past[-1 - halts.RECENT][1], past[-1 - halts.BACK][1], float(g), float(progress),
+            float(self._size[k]), self.sigma))

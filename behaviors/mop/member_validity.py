@@ -17,19 +17,21 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, overrun, path_kernel, shape_lead, speed_profile, take_fit
+from behaviors.mop import (halts, handover, overrun, path_kernel, shape_lead, speed_profile,
+                          take_fit)
 from behaviors.mop import validity
 from behaviors.mop import tempo as tempo_rules   # (its function tempo is this module's)
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
 from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
+from behaviors.mop.validity import CARRY_FIRST
 from behaviors.mop.tempo import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (path_kernel's through
 # overrun's)
-_CALLS_INTO = (handover, overrun, path_kernel, shape_lead, speed_profile, take_fit, tempo_rules,
-               validity)
+_CALLS_INTO = (halts, handover, overrun, path_kernel, shape_lead, speed_profile, take_fit,
+               tempo_rules, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -145,16 +147,21 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
 
 
 @compiled(numba.boolean[::1](_F2, _I2, _F1, _F2, _F2, _F2, _F2, _B1, _B1, _I1, _I1, _I1, _I1,
-                             _F3, _F2, _F2, _F1, _I1, _B1), *_CALLS_INTO)
+                             _F3, _F2, _F2, _F1, _I1, _B1, _F1, _I1, _F1, _F1,
+                             numba.float64[:, :]), *_CALLS_INTO)
 def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, at, seen,
-               tempo_x, tempo_g, tempo_s, size, overran_k, straight) -> np.ndarray:
+             tempo_x, tempo_g, tempo_s, size, overran_k, straight, progress, drive_k,
+             drive_from, drive_peak, units) -> np.ndarray:
     """:meth:`Validity._overruns` of every present member that spots, for its best template
     (``size``: each template's), against the samples, followed states and sizes its tempo ring
     keeps (``tempo_x``, ``tempo_g``, ``tempo_s``; ``at``: the slot written next, ``seen``:
     samples so far; as :func:`tempo` reads them, before it writes this one); ``states``,
     ``ti``, ``tc``, ``mc``: as :func:`behaviors.mop.members.conclude` takes them;
     ``overran_k``: the template each overran at its last sample (-1: none), updated;
-    ``straight``: whether its size's growth spares it (:func:`turned`). Out: (M,) flags."""
+    ``straight``: whether its size's growth spares it (:func:`turned`); ``progress`` (K,),
+    ``drive_k``, ``drive_from``, ``drive_peak``, ``units`` (M, D): as
+    :func:`behaviors.mop.members.conclude` reads them (for :func:`behaviors.mop.halts.halts`,
+    before this sample's peak). Out: (M,) flags."""
     out = np.zeros(bounds.size, dtype=np.bool_)
     w = TEMPO_SAMPLES
     back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
@@ -179,11 +186,19 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
             size[gb], tempo_s[sp, gb], m[14], m[0], held, not straight[i])
         if out[i]:
             overran_k[i] = best[i]
+        sigma = math.sqrt(m[14] / m[0])
+        # ... or its performer halts, not yet carried forward, where its template goes on (the
+        # follower's Recognition._conclude: halts.halts, the ring before this sample)
+        if not out[i] and seen[i] >= halts.BACK and drive_k[i] == best[i] and max(
+                drive_peak[i], progress[gb]) - drive_from[i] < CARRY_FIRST:
+            out[i] = halts.halts(
+                states[:, :d], start, length, off, tc[gb, sc0:sc0 + d], units[i], x[i],
+                tempo_x[(at[i] - halts.RECENT) % w, i], tempo_x[(at[i] - halts.BACK) % w, i],
+                min(mean[gb], length - 1.0), progress[gb], size[gb], sigma)
         # ... or it waits where its template slows and the input keeps its speed, at this
         # sample and the one before (speed_profile.outpaces; not counted as an overrun)
         if out[i] or seen[i] < speed_profile.BACK + 1:
             continue
-        sigma = math.sqrt(m[14] / m[0])
         waits = True
         for ago in range(2):
             xa = x[i] if ago == 0 else tempo_x[(at[i] - 1) % w, i]

@@ -228,7 +228,9 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                           take_limit)
     overran = member_validity.overruns(states, ti, mean, tc, mc, vectors[0], vectors[1], present,
                                        m_flags[10], ints[0], ints[3], ints[14], ints[15],
-                                       tempo_x, tempo_g, tempo_s, size, ints[17], m_flags[17])
+                                       tempo_x, tempo_g, tempo_s, size, ints[17], m_flags[17],
+                                       k_out[0], ints[10], m_floats[5], m_floats[6],
+                                       mk[:, _RAD + vectors.shape[2]:_RAD + 2 * vectors.shape[2]])
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
                           m_floats[8], onset, m_flags[2], crawl, ints[10])

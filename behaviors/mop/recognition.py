@@ -100,8 +100,8 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
-                                    still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (CARRY_FIRST, backs_first, carried, leapt, rests_behind,
+                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -380,6 +380,11 @@ class Recognition:
                                        abs(step))
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
+                # ... and it is not shown while its performer halts, not yet carried forward,
+                # where its template goes on (halts.halts)
+                overran = overran or (
+                    self._drive_peak - self._drive_from < CARRY_FIRST
+                    and self._halts(bi, float(g[bi] - b.starts[bi]), progress_list[bi], x))
         # a new best confirms on samples of its own: the run of the one before does not carry
         # over (it did: a figure eight took over a stalled crawl and drove in the same sample)
         self._run = self._run + 1 if ok and bi == self._run_k else int(ok)
