@@ -21,13 +21,15 @@ is under :data:`HALT` of its mean speed over the ``EARLIER`` samples before them
 direction at least :data:`MOVED` of a sigma a sample, and not going back).
 Measured (``OPENBLAS_NUM_THREADS=1 bench/follow_seeds.py --sections=sized,unrelated,sequences``,
 held-out seeds 107-112; every variant replayed on the same followed ticks, as the rule only
-hides): kept, unrelated told worst .0666 -> .0640 (mean .0511 -> .0486), valid share mean
-.0766 -> .0744, the other 98 figures identical (108's longest wrong run is a spin, 6).
-Measured and not kept: the speed along the direction alone (the first form), valid after 30%
-at 0.7-1.4x mean .9036 -> .9000, every seed lower: the figure eights at 0.30 whose followed
-state lags at 0.22 before the turn the performer already took (the input turns, keeping its
-speed); not going back and before 0.3: .9034; both speeds without :data:`EARLY`: .9019; both
-at 0.6 with :data:`EARLY`: .9035.
+hides): twenty templates' longest wrong run on 103 7 -> 3 (a seventh getup; 108's first
+getup 6 -> 3 lies under 108's spin, 6), unrelated told worst .0842 -> .0818 (104) and .0666 ->
+.0640 (107-112; mean .0511 -> .0486), every other figure identical (sized valid after 30% at
+0.7-1.4x mean .9062 / .9036, the six gestures' runs and shares within 20%).
+Measured and not kept (107-112 / 101-106): the speed along the direction alone (the first
+form), valid after 30% at 0.7-1.4x mean .9000 / .9040, every seed lower: figure eights at 0.30
+whose followed state lags at 0.22, before the turn the performer already took (the input turns
+keeping its speed); that, not going back and before 0.3: .9034 / .9061; both speeds without
+:data:`EARLY`: .9019 / .9053; both under 0.6 with :data:`EARLY`: .9035 / .9062.
 """
 
 from __future__ import annotations

@@ -36,7 +36,8 @@ def test_an_action_just_taken_is_not_shown_while_the_input_halts_where_it_goes_o
 
 
 def test_a_group_hides_an_action_while_its_input_halts_as_its_followers_alone():
-    # member_validity.overruns calls halts.halts as the follower does: every state equal
+    # member_validity.overruns calls halts.halts as the follower does: every state equal (25
+    # valid ticks; 28 without the rule)
     from tests.mop.helpers import group_beside_alone
     templates, x, _ = _punch_on_getup_stream()
     assert group_beside_alone(lambda: puck_follower(templates), [x]) == [VALID]
