@@ -21,7 +21,7 @@ is under :data:`HALT` of its mean speed over the ``EARLIER`` samples before them
 direction at least :data:`MOVED` of a sigma a sample, and not going back).
 Measured (``OPENBLAS_NUM_THREADS=1 bench/follow_seeds.py --sections=sized,unrelated,sequences``,
 held-out seeds 107-112; every variant replayed on the same followed ticks, as the rule only
-hides): twenty templates' longest wrong run on 103 7 -> 3 (a seventh getup; 108's first
+hides): twenty templates' longest wrong run on 103 7 -> 3 (its seventh sequence; 108's first
 getup 6 -> 3 lies under 108's spin, 6), unrelated told worst .0842 -> .0818 (104) and .0666 ->
 .0640 (107-112; mean .0511 -> .0486), every other figure identical (sized valid after 30% at
 0.7-1.4x mean .9062 / .9036, the six gestures' runs and shares within 20%).
