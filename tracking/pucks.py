@@ -9,11 +9,12 @@ Per marker id one track. Each update:
    in a row (the puck was really moved there);
 2. filtering: the One Euro filter (tracking.filters) on position and on the unwrapped heading;
 3. occlusion: a track whose source delivers a frame without it is predicted with a decaying
-   constant velocity and reported ``coasting`` for up to ``coast_s``, then dropped. A hidden puck
-   is never ``seen``. When it comes back, its measured pose (``raw_*``) is reported at once and
-   its smoothed pose (``x``, ``y``, ``angle``) moves at most ``reacquire_step_m`` per update
-   toward it, until a second reading confirms it: the next, within ``CONFIRM_GAP_S`` at the
-   same place (a puck put down), or a relocation. Then it is shown where it is measured;
+   velocity turning at the puck's measured rate of turn (tracking.turning) and reported
+   ``coasting`` for up to ``coast_s``, then dropped. A hidden puck is never ``seen``. When it
+   comes back, its measured pose (``raw_*``) is reported at once and its smoothed pose (``x``,
+   ``y``, ``angle``) moves at most ``reacquire_step_m`` per update toward it, until a second
+   reading confirms it: the next, within ``CONFIRM_GAP_S`` and no faster than ``max_speed``
+   from the first, or a relocation. Then it is shown where it is measured;
 4. velocity (``vx``, ``vy``) and angular velocity (``omega``): the measurement's own when its
    source measured them (a TUIO sender's), else estimated from the positions, low-passed.
 
@@ -31,11 +32,13 @@ from typing import Iterable, Sequence
 
 from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
 from tracking.filters import one_euro_floats, scale_beta
+from tracking.turning import (TURN_SPEED, extend_trail, led_velocity, turn_sample,
+                              turned_travel, turned_velocity)
 
 MAX_OMEGA = 8.0 * math.pi   # rad/s: 4 turns a second, faster than a hand turns a puck
+STILL_SPEED = 0.05  # m/s: a puck moving slower between two readings is lying still
 SPARSE_GAP_S = 0.2  # s: a puck seen again this soon is one track, seen sparsely (motion blur)
 CONFIRM_GAP_S = 0.07  # s: a second reading this soon after a return confirms it (2 frames at 30 Hz)
-STILL_SPEED = 0.05  # m/s: a puck moving slower between two readings is lying still
 
 
 @dataclass(frozen=True)
@@ -111,6 +114,11 @@ class _Track:
     candidate: tuple[float, float] | None = None
     candidate_count: int = 0
     coast_t: float = 0.0           # time of the newest coasting prediction
+    vspan: float = 0.0             # s: time span of the last chord in the velocity
+    vfiltered: bool = True         # the velocity is low-passed (else a chord)
+    turn: float = 0.0              # rad/s: rate of turn of the velocity's direction
+    trail: list[tuple[float, float, float]] = dataclasses.field(default_factory=list)  # t, x, y
+    steady: bool = False  # its turn was measured before its last return (3 readings or more)
     chord: tuple[float, float] = (0.0, 0.0)  # velocity estimate before any damping
 
 
@@ -262,21 +270,21 @@ class PuckTracker:
         # puck lifted for 0.3 s and put back 0.14 m away: within 10 mm from its second reading,
         # read every frame (else 12-13 readings, 1 cm each) or every other (else 4-5). One
         # reading alone moves it as before (none of 4,198 readings among hands was false).
-        # Confirming a moving puck too (a hand over a 0.5 m/s puck: 13 readings -> 1, overall
-        # p95 62 -> 16 mm at 60 Hz, 104 -> 49 mm at 30 Hz) made pucks read in 8-11% of frames
-        # (12-13 mm blur, 60 Hz) worse: coasting on from the reading overshoots the circle,
-        # overall p95 188 -> 198 and 186 -> 197 mm, nine seeds pooled; confirmed only after
-        # 3 or 4 readings in a row, still 6-7 figures worse (30 Hz hand, p95 113.2 -> 113.3).
-        # Coasting at the measured rate of turn of the direction of travel (a constant turn
-        # rate model) and confirming only pucks whose turn was measured before they were hidden:
-        # 74 figures better (hand at 0.5 m/s p95 25 -> 12 mm at 60 Hz, 71 -> 14 mm at 30 Hz;
-        # 12.8 mm blur, 60 Hz, 188 -> 180 mm), 2 worse: back and forth at 1.5 m/s, 60 Hz, p95
-        # 375.2 -> 375.3 mm, and a hand over a 1 m/s puck at 30 Hz, median 11.248 -> 11.252 mm.
+        # A moving puck too, once its turn was measured (tracking.turning): a hand over a 0.5
+        # m/s puck, 13 readings -> 1. Coasting along the tangent, snapping made pucks read in
+        # 8-11% of frames (12-13 mm blur, 60 Hz) worse, overall p95 188 -> 198 mm, nine seeds
+        # pooled; coasting on the measured turn, 188 -> 180 mm (74 figures better, 2 worse:
+        # back and forth at 1.5 m/s p95 375.2 -> 375.3, 30 Hz hand median 11.248 -> 11.252 mm).
         confirmed = relocated or (tr.reacquiring and not returning and 0.0 < dt <= CONFIRM_GAP_S
                                   and math.hypot(meas[0] - old[0], meas[1] - old[1])
-                                  <= STILL_SPEED * u * dt)
+                                  <= (s.max_speed if tr.steady else STILL_SPEED) * u * dt)
         if sparse and s.smooth and not confirmed:
             tr.pos, tr.ang = tr.out[:2], tr.out[2:]
+            if tr.anchor is not None:  # the straight prediction: filtered from the turned
+                # one, the filter's speed came out lower and it lagged more (9.6 mm blur, 60
+                # Hz, median 6.33 -> 6.36 mm)
+                k = decayed_travel(1.0, tr.coast_t - tr.t, s.coast_decay_s)
+                tr.pos = [tr.anchor[0] + k * tr.vx, tr.anchor[1] + k * tr.vy]
             tr.reacquiring = False
         if dt > 0.0:
             if relocated:
@@ -287,6 +295,7 @@ class PuckTracker:
                 if returning or sparse:  # no momentum carried through an occlusion
                     tr.vx = tr.vy = tr.omega = 0.0
                     a = 1.0 if dt < 0.1 else a
+                tr.vspan, tr.vfiltered = dt, not (returning or sparse)
                 tr.vx += a * ((meas[0] - old[0]) / dt - tr.vx)
                 tr.vy += a * ((meas[1] - old[1]) / dt - tr.vy)
                 tr.chord = (tr.vx, tr.vy)
@@ -299,11 +308,14 @@ class PuckTracker:
                         c = max(1.0 - math.hypot(tr.vx - pv[0], tr.vy - pv[1]) / n, 0.0)
                     tr.vx, tr.vy = c * tr.vx, c * tr.vy
                 tr.omega += a * ((meas[2] - old[2]) / dt - tr.omega)
+        self._turned(tr, meas, t, returning or relocated, relocated)
         _take_measured_velocity(tr, m, s.max_speed * u)
         if not sparse:
             tr.chord = (tr.vx, tr.vy)
         if returning or confirmed:
             tr.pos, tr.dpos, tr.ang, tr.dang = meas[:2], [0.0, 0.0], meas[2:], [0.0]
+            if confirmed and not relocated and dt > 0.0:  # the filter's speed: the chord's
+                tr.dpos = [(meas[0] - old[0]) / dt, (meas[1] - old[1]) / dt]
             tr.reacquiring = not confirmed
             target = list(meas)
         elif s.smooth and dt > 0.0:
@@ -325,6 +337,30 @@ class PuckTracker:
             tr.out = target
         tr.meas, tr.t, tr.source = meas, t, source
         tr.state, tr.anchor = "seen", None
+
+    def _turned(self, tr: _Track, meas: list[float], t: float, broken: bool,
+                relocated: bool) -> None:
+        """Update the rate of turn of the puck's direction of travel (tracking.turning). A puck
+        back from a coast keeps turning as it did; a relocated one does not. Reset at a return,
+        pucks on 9 cm circles read in 7-8% of frames (12.8 mm blur) were shown worse: overall
+        p95 181.7 -> 189.6 mm at 60 Hz, 180.0 -> 184.9 mm at 30 Hz, nine seeds pooled."""
+        if broken:
+            tr.steady = len(tr.trail) >= 3 and not relocated
+            tr.trail = []
+            if relocated:
+                tr.turn = 0.0
+        if tr.trail and t <= tr.trail[-1][0]:
+            return  # another reading of the same moment
+        tr.trail = extend_trail(tr.trail, t, meas[0], meas[1])
+        if len(tr.trail) < 3:
+            return
+        sample = turn_sample(tr.trail, TURN_SPEED * self.s.units_per_metre)
+        if sample is None:  # turned back, not turning
+            tr.turn = 0.0
+            return
+        dt = max(t - tr.t, 1e-6)
+        a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * self.s.velocity_cutoff_hz * dt))
+        tr.turn += a * (min(max(sample, -MAX_OMEGA), MAX_OMEGA) - tr.turn)
 
     def _reacquired(self, tr: _Track, target: list[float], returning: bool) -> list[float]:
         """The pose shown for a reappeared puck measured at ``target``: the gap between the
@@ -378,8 +414,14 @@ class PuckTracker:
             tr.state, tr.anchor = "coasting", list(tr.out)
         k = decayed_travel(1.0, t - tr.t, self.s.coast_decay_s)
         a = tr.anchor
-        tr.out = [a[0] + k * tr.vx, a[1] + k * tr.vy, a[2] + k * tr.omega]
+        dx, dy = turned_travel(*self._led(tr), tr.turn, t - tr.t, self.s.coast_decay_s)
+        tr.out = [a[0] + dx, a[1] + dy, a[2] + k * tr.omega]
         tr.coast_t = max(t, tr.t)
+
+    def _led(self, tr: _Track) -> tuple[float, float]:
+        """The held velocity turned to where the puck heads when it was last read."""
+        return led_velocity(tr.vx, tr.vy, tr.turn, tr.vspan,
+                            self.s.velocity_cutoff_hz if tr.vfiltered else None)
 
     def _expire(self, t: float) -> None:
         for tr in self.tracks.values():
@@ -389,10 +431,12 @@ class PuckTracker:
             del self.tracks[pid]
 
     def _puck(self, tr: _Track) -> Puck:
-        k = 1.0
-        if tr.state == "coasting":
-            k = math.exp(-max(tr.coast_t - tr.t, 0.0) / self.s.coast_decay_s)
-        return Puck(tr.id, tr.out[0], tr.out[1], wrap_angle(tr.out[2]), tr.vx * k, tr.vy * k,
+        k, vx, vy = 1.0, tr.vx, tr.vy
+        if tr.state == "coasting":  # the velocity of the prediction shown: turned and faded
+            dt = max(tr.coast_t - tr.t, 0.0)
+            k = math.exp(-dt / self.s.coast_decay_s)
+            vx, vy = turned_velocity(*self._led(tr), tr.turn, dt, self.s.coast_decay_s)
+        return Puck(tr.id, tr.out[0], tr.out[1], wrap_angle(tr.out[2]), vx, vy,
                     tr.omega * k, tr.state,  # type: ignore[arg-type]
                     raw_x=tr.meas[0], raw_y=tr.meas[1], raw_angle=wrap_angle(tr.meas[2]))
 
