@@ -32,6 +32,8 @@ from typing import Iterable, Sequence
 
 from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
 from tracking.filters import one_euro_floats, scale_beta
+from tracking.reacquire import reacquired
+from tracking.rivals import Rival, follow
 from tracking.turning import (TURN_SPEED, extend_trail, led_velocity, turn_sample,
                               turned_travel, turned_velocity)
 
@@ -55,6 +57,8 @@ class TrackerSettings:
     ``confirm_frames``: consistent far sightings that relocate a puck.
     ``velocity_cutoff_hz``: low-pass of the velocity estimate.
     ``stale_s``: a puck whose source has delivered nothing for that long is coasting.
+    ``pucks``: the ids of the pucks on the table; a reading of another id (a print, a stray
+    marker) is no puck. Empty: every id read is a puck.
     """
 
     min_cutoff: float = 0.2
@@ -80,6 +84,7 @@ class TrackerSettings:
     velocity_cutoff_hz: float = 5.0
     stale_s: float = 0.25
     units_per_metre: float = 1.0
+    pucks: tuple[int, ...] = ()
 
 
 def decayed_travel(v: float, dt: float, decay_s: float) -> float:
@@ -113,6 +118,7 @@ class _Track:
     gap: list[float] = dataclasses.field(default_factory=lambda: [0.0, 0.0, 0.0])
     candidate: tuple[float, float] | None = None
     candidate_count: int = 0
+    candidate_t: float = 0.0       # time of the last far reading taken as the candidate
     coast_t: float = 0.0           # time of the newest coasting prediction
     vspan: float = 0.0             # s: time span of the last chord in the velocity
     vfiltered: bool = True         # the velocity is low-passed (else a chord)
@@ -120,6 +126,8 @@ class _Track:
     trail: list[tuple[float, float, float]] = dataclasses.field(default_factory=list)  # t, x, y
     steady: bool = False  # its turn was measured before its last return (3 readings or more)
     chord: tuple[float, float] = (0.0, 0.0)  # velocity estimate before any damping
+    rival: Rival | None = None     # far readings of its id (tracking.rivals)
+    decoy: tuple[float, float] | None = None  # a still place of its id that is not the puck
 
 
 class PuckTracker:
@@ -200,7 +208,10 @@ class PuckTracker:
     def _apply(self, measurements: Sequence[PuckMeasurement], t: float, source: str,
                complete: bool) -> None:
         by_id: dict[int, list[PuckMeasurement]] = {}
+        named = self.s.pucks
         for m in measurements:
+            if named and int(m.id) not in named:
+                continue
             if math.isfinite(m.x) and math.isfinite(m.y) and math.isfinite(m.angle):
                 by_id.setdefault(int(m.id), []).append(m)
         for pid, ms in by_id.items():
@@ -229,15 +240,37 @@ class PuckTracker:
         if t < tr.t:
             return True  # older than what the track already holds (another source): ignore
         px, py = self._predicted(tr, t)
+        gate, u = self._gate(tr, t), self.s.units_per_metre
         dists = [math.hypot(m.x - px, m.y - py) for m in ms]
+        if tr.decoy is not None:  # a print's readings away from the track are not the puck
+            dx, dy = tr.decoy
+            keep = [i for i, m in enumerate(ms) if dists[i] <= u * self.s.gate_m
+                    or math.hypot(m.x - dx, m.y - dy) > u * self.s.gate_m]
+            ms, dists = [ms[i] for i in keep], [dists[i] for i in keep]
+            if not ms:
+                return False
+        far = [i for i in range(len(ms)) if dists[i] > gate]
+        if far:
+            m = ms[min(far, key=lambda i: math.dist((ms[i].x, ms[i].y), (tr.rival.x, tr.rival.y))
+                       if tr.rival else dists[i])]
+            reach = u * (self.s.gate_m + self.s.max_speed * (t - tr.rival.t if tr.rival else 0.0))
+            r = tr.rival = follow(tr.rival, m.x, m.y, t, reach, tr.meas, u * self.s.gate_m)
+            if (r.moved() > u * self.s.gate_m and tr.state == "seen"
+                    and math.hypot(tr.meas[0] - r.tx, tr.meas[1] - r.ty) <= u * self.s.gate_m):
+                # The rival moves, the track's place lies still: the rival is the puck.
+                tr.decoy, tr.rival = (tr.meas[0], tr.meas[1]), None
+                tr.candidate, tr.candidate_count = None, 0
+                self._accept(tr, m, source, relocated=True)
+                return True
         k = min(range(len(ms)), key=dists.__getitem__)
-        if dists[k] <= self._gate(tr, t):
+        if dists[k] <= gate:
             tr.candidate, tr.candidate_count = None, 0
             self._accept(tr, ms[k], source, relocated=False)
             return True
         # Far from the track: a false detection, unless it keeps appearing at the same place.
         m = ms[k]
-        u = self.s.units_per_metre
+        still_at, still_t = tr.candidate, tr.candidate_t
+        tr.candidate_t = t
         if (tr.candidate is not None
                 and math.hypot(m.x - tr.candidate[0], m.y - tr.candidate[1]) <= u * self.s.gate_m):
             tr.candidate_count += 1
@@ -246,6 +279,13 @@ class PuckTracker:
         tr.candidate = (m.x, m.y)
         if tr.candidate_count >= self.s.confirm_frames:
             tr.candidate, tr.candidate_count = None, 0
+            if (math.hypot(*tr.chord) > STILL_SPEED * u and not tr.reacquiring
+                    and still_at is not None and math.hypot(m.x - still_at[0], m.y - still_at[1])
+                    <= STILL_SPEED * u * max(t - still_t, 0.0) + 1e-3 * u):
+                # A still place read again and again while the track was moving: a print
+                # of its marker, not the puck moved there.
+                tr.decoy = (m.x, m.y)
+                return False
             self._accept(tr, m, source, relocated=True)
             return True
         return False
@@ -289,6 +329,7 @@ class PuckTracker:
         if dt > 0.0:
             if relocated:
                 tr.vx = tr.vy = tr.omega = 0.0
+                tr.rival = None
             else:
                 a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * s.velocity_cutoff_hz * dt))
                 pv = tr.chord
@@ -331,7 +372,8 @@ class PuckTracker:
         else:
             target = list(meas)
         if tr.reacquiring:
-            tr.out = self._reacquired(tr, target, returning)
+            tr.out, tr.gap = reacquired(tr.out, target, tr.gap, returning,
+                                        s.reacquire_step_m * u, s.reacquire_step_rad, u)
             tr.reacquiring = tr.out != target
         else:
             tr.out = target
@@ -361,50 +403,6 @@ class PuckTracker:
         dt = max(t - tr.t, 1e-6)
         a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * self.s.velocity_cutoff_hz * dt))
         tr.turn += a * (min(max(sample, -MAX_OMEGA), MAX_OMEGA) - tr.turn)
-
-    def _reacquired(self, tr: _Track, target: list[float], returning: bool) -> list[float]:
-        """The pose shown for a reappeared puck measured at ``target``: the gap between the
-        two shrinks by at least ``reacquire_step_m`` (``_rad``) per update, the shown pose
-        either stepping toward the puck or keeping its shrunk offset from a moving puck,
-        whichever ends nearer. Stepping alone never catches a puck faster than a step per
-        update (0.01 m at 60 Hz: 0.6 m/s; pucks move up to 1.5 m/s). Measured on rendered
-        frames (1280x720, 60 Hz, four pucks circling), p95 error of the shown pose while seen:
-        a puck at 1-1.5 m/s hidden by a hand for 0.15-0.3 s, 79-91 mm stepping alone, 14-19 mm
-        so; motion blur of 9.6 mm (0.6 m/s, 16 ms shutter), 34-60 mm and 14-17 mm."""
-        s, out = self.s, tr.out
-        # A step per update, not per 1/60 s: scaled by the time between updates, at 30 Hz
-        # the shown pose while seen improved (hand over a puck at 0.5 m/s: p95 40-47 ->
-        # 12-14 mm) but overall p95 grew at 1 m/s (126-127 -> 127-129 mm) and, scaled at
-        # returns too, with 5% of frames read (217 -> 232 mm): kept per update.
-        lim = s.reacquire_step_m * s.units_per_metre
-        out[2] = target[2] + wrap_angle(out[2] - target[2])  # the measurement's branch
-        if returning:
-            tr.gap = [out[0] - target[0], out[1] - target[1], out[2] - target[2]]
-            g = math.hypot(tr.gap[0], tr.gap[1])
-            cap = 0.15 * s.units_per_metre  # the shown pose held within 0.15 m of a puck back
-            # after a long coast, not 0.3-0.77 m away (hand over a 1 m/s puck, 60 Hz: p95 101
-            # -> 49 mm)
-            if g > cap:
-                tr.gap[0] *= cap / g
-                tr.gap[1] *= cap / g
-        gx, gy, ga = tr.gap
-        d = math.hypot(gx, gy)
-        k = max(d - lim, 0.0) / d if d > 0.0 else 0.0
-        held = [target[0] + gx * k, target[1] + gy * k]           # the offset kept, shrunk
-        sx, sy = target[0] - out[0], target[1] - out[1]
-        e = math.hypot(sx, sy)
-        j = min(lim / e, 1.0) if e > 0.0 else 0.0
-        stepped = [out[0] + sx * j, out[1] + sy * j]              # a step toward the puck
-        if math.dist(stepped, target[:2]) < math.dist(held, target[:2]):
-            held = stepped
-        ga = math.copysign(max(abs(ga) - s.reacquire_step_rad, 0.0), ga)
-        sa = target[2] - out[2]
-        sa = min(max(sa, -s.reacquire_step_rad), s.reacquire_step_rad)
-        a = out[2] + sa if abs(target[2] - out[2] - sa) < abs(ga) else target[2] + ga
-        tr.gap = [held[0] - target[0], held[1] - target[1], a - target[2]]
-        if math.hypot(*tr.gap[:2]) <= 1e-12 and abs(tr.gap[2]) <= 1e-12:
-            return list(target)
-        return [held[0], held[1], a]
 
     def _miss(self, tr: _Track, t: float) -> None:
         # A reappeared puck's gap is held, not closed, while it is hidden again: closing it
