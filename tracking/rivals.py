@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Sequence, TypeVar
+
+M = TypeVar("M")
 
 
 @dataclass
@@ -44,3 +47,13 @@ def follow(rival: Rival | None, x: float, y: float, t: float, reach: float, trac
         rival.x0, rival.y0, rival.tx, rival.ty = rival.x, rival.y, track[0], track[1]
     rival.x, rival.y, rival.t = x, y, t
     return rival
+
+
+def screened(ms: Sequence[M], dists: Sequence[float], decoy: tuple[float, float], near: float
+             ) -> tuple[list[M], list[float]]:
+    """The readings ``ms`` (with ``x``, ``y``) and their distances from the track's prediction
+    without those within ``near`` of the ``decoy`` (a print's place), unless within ``near``
+    of the prediction too (the puck has come there)."""
+    keep = [i for i, m in enumerate(ms) if dists[i] <= near
+            or math.hypot(m.x - decoy[0], m.y - decoy[1]) > near]  # type: ignore[attr-defined]
+    return [ms[i] for i in keep], [dists[i] for i in keep]

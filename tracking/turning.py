@@ -60,7 +60,10 @@ def extend_trail(trail: list[tuple[float, float, float]], t: float, x: float, y:
                  ) -> list[tuple[float, float, float]]:
     """The readings (t, x, y) a turn is measured from, with the reading at ``t`` added: those
     within ``TURN_WINDOW_S``, else the last two, none when they span over ``TURN_SPAN_S``."""
-    kept = [p for p in trail if t - p[0] <= TURN_WINDOW_S] or trail[-2:]
+    i, n = 0, len(trail)   # times rise: the readings kept are the newest
+    while i < n and t - trail[i][0] > TURN_WINDOW_S:
+        i += 1
+    kept = trail[i:] if i < n else trail[-2:]
     if kept and t - kept[0][0] > TURN_SPAN_S:
         kept = []
     return kept + [(t, x, y)]
@@ -70,12 +73,17 @@ def turn_sample(trail: list[tuple[float, float, float]], least_speed: float) -> 
     """Rate of turn (rad/s) between the chords first -> middle and middle -> last reading of
     ``trail`` (at least three); 0 where either is slower than ``least_speed``; None where the
     second turned back (a reversal)."""
-    p0, p2 = trail[0], trail[-1]
-    p1 = min(trail[1:-1], key=lambda p: abs(p[0] - 0.5 * (p0[0] + p2[0])))
-    c1, c2 = (p1[1] - p0[1], p1[2] - p0[2]), (p2[1] - p1[1], p2[2] - p1[2])
-    if min(math.hypot(*c1) / (p1[0] - p0[0]), math.hypot(*c2) / (p2[0] - p1[0])) <= least_speed:
+    t0, x0, y0 = trail[0]
+    t2, x2, y2 = trail[-1]
+    mid = 0.5 * (t0 + t2)
+    t1, x1, y1 = trail[1]
+    for p in trail[2:-1]:   # the reading nearest the middle in time (the first of a tie)
+        if abs(p[0] - mid) < abs(t1 - mid):
+            t1, x1, y1 = p
+    c1x, c1y, c2x, c2y = x1 - x0, y1 - y0, x2 - x1, y2 - y1
+    if min(math.hypot(c1x, c1y) / (t1 - t0), math.hypot(c2x, c2y) / (t2 - t1)) <= least_speed:
         return 0.0
-    a = wrap_angle(math.atan2(c2[1], c2[0]) - math.atan2(c1[1], c1[0]))
+    a = wrap_angle(math.atan2(c2y, c2x) - math.atan2(c1y, c1x))
     if abs(a) > REVERSAL_RAD:
         return None
-    return a / (0.5 * (p2[0] - p0[0]))
+    return a / (0.5 * (t2 - t0))
