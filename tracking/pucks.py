@@ -244,6 +244,11 @@ class PuckTracker:
             return True  # older than what the track already holds (another source): ignore
         px, py = self._predicted(tr, t)
         gate, u = self._gate(tr, t), self.s.units_per_metre
+        if len(ms) == 1 and tr.decoy is None:   # the usual case, without list overhead
+            if math.hypot(ms[0].x - px, ms[0].y - py) <= gate:
+                tr.candidate, tr.candidate_count = None, 0
+                self._accept(tr, ms[0], source, relocated=False)
+                return True
         dists = [math.hypot(m.x - px, m.y - py) for m in ms]
         if tr.decoy is not None:
             ms, dists = screened(ms, dists, tr.decoy, u * self.s.gate_m)
