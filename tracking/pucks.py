@@ -37,7 +37,7 @@ from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
 from tracking.filters import one_euro_floats, scale_beta
 from tracking.reacquire import reacquired
 from tracking.rivals import Rival, follow, screened
-from tracking.turning import (TURN_SPEED, extend_trail, led_velocity, turn_sample,
+from tracking.turning import (TURN_SPEED, decayed_travel, extend_trail, led_velocity, turn_sample,
                               turned_travel, turned_velocity)
 
 MAX_OMEGA = 8.0 * math.pi   # rad/s: 4 turns a second, faster than a hand turns a puck
@@ -88,14 +88,6 @@ class TrackerSettings:
     stale_s: float = 0.25
     units_per_metre: float = 1.0
     pucks: tuple[int, ...] = ()
-
-
-def decayed_travel(v: float, dt: float, decay_s: float) -> float:
-    """Distance travelled in ``dt`` seconds from velocity ``v`` decaying exponentially with time
-    constant ``decay_s``: v * decay_s * (1 - exp(-dt / decay_s))."""
-    if dt <= 0.0:
-        return 0.0
-    return v * decay_s * (1.0 - math.exp(-dt / decay_s))
 
 
 @dataclass

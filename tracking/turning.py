@@ -22,6 +22,14 @@ TURN_SPEED = 0.1     # m/s: a slower chord's direction is too noisy to measure a
 REVERSAL_RAD = 2.5   # rad: a chord turned further from the one before is a reversal, not a turn
 
 
+def decayed_travel(v: float, dt: float, decay_s: float) -> float:
+    """Distance travelled in ``dt`` seconds from velocity ``v`` decaying exponentially with time
+    constant ``decay_s``: v * decay_s * (1 - exp(-dt / decay_s))."""
+    if dt <= 0.0:
+        return 0.0
+    return v * decay_s * (1.0 - math.exp(-dt / decay_s))
+
+
 def turned_travel(vx: float, vy: float, turn: float, dt: float, decay_s: float
                   ) -> tuple[float, float]:
     """Displacement in ``dt`` s from velocity (vx, vy) whose speed fades with time constant
