@@ -212,7 +212,8 @@ def _clutter_run(seeds: list[int], fps: float, prints: int) -> dict[str, object]
     errors: list[float] = []
     for seed in seeds:
         cam = Camera(seed, exposure_s=0.008, prints=prints)
-        trk = PuckTracker(plugin.tracker_settings({}))
+        # with prints, the installation names its pucks (tracking.pucks), as it should
+        trk = PuckTracker(plugin.tracker_settings({"pucks": [1, 2, 3, 4]} if prints else {}))
         rng = np.random.default_rng(seed)
         base = [(k + 1, 0.15 + 0.3 * k, 0.2 + 0.4 * rng.random(), 0.0) for k in range(4)]
         for f in range(int(4.0 * fps)):

@@ -81,7 +81,8 @@ def build_tracker(cfg: dict[str, Any], ctx: BuildContext) -> Tracker:
     tracking = registry.optional_module("tabletop.plugins.tracking")
     if tracking is None:
         return LatestMeasurements()
-    return tracking.build_tracker(cfg["tracking"], ctx)
+    controls = ((cfg.get("studio") or {}).get("markers") or {}).values()
+    return tracking.build_tracker(cfg["tracking"], ctx, [m for m in controls if m is not None])
 
 
 def build_engines(cfg: dict[str, Any], ctx: BuildContext) -> list[Engine]:

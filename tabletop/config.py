@@ -12,8 +12,9 @@ from pathlib import Path
 from typing import Any
 
 from tabletop import registry
-from tabletop.config_checks import (check_calibrations, check_marker_ids, check_reactor_mains,
-                                    check_scripted_pucks, check_sprites, check_studio_markers)
+from tabletop.config_checks import (check_calibrations, check_marker_ids, check_named_pucks,
+                                    check_reactor_mains, check_scripted_pucks, check_sprites,
+                                    check_studio_markers)
 from tabletop.config_ports import check_udp_ports
 from tabletop.file_io import file_signature
 from tabletop.files import read_yaml
@@ -149,6 +150,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     check_marker_ids(cfg, ctx)
     check_scripted_pucks(cfg, ctx)
     check_studio_markers(cfg, ctx)
+    check_named_pucks(cfg, ctx)
     _check_on_table(cfg, ctx)
     check_udp_ports(cfg, ctx)
     check_sprites(cfg, ctx)

@@ -130,6 +130,18 @@ def check_studio_markers(cfg: dict, ctx: Context) -> None:
     _check_engine_pucks(cfg, first, ctx)
 
 
+def check_named_pucks(cfg: dict, ctx: Context) -> None:
+    """Where ``tracking.pucks`` names the pucks on the table, every puck an engine binds is
+    named: the tracker shows no other id, so that engine would never see its puck."""
+    named = set((cfg.get("tracking") or {}).get("pucks") or ())
+    if not named:
+        return
+    for key, puck in _engine_pucks(cfg):
+        if puck not in named:
+            raise ctx.error(key, f"puck {puck} is not in tracking.pucks {sorted(named)}; the "
+                                 "tracker shows only those: add it there")
+
+
 def _engine_pucks(cfg: dict) -> list[tuple[str, int]]:
     """Every puck an engine binds, with its key: a Puppet Master engine's mains (one, or each
     of ``nearest``/``first``) and its designer's pucks, a MOP performer's puck inputs

@@ -23,6 +23,13 @@ def one_euro_floats(x: list[float], value: list[float], derivative: list[float],
     ``derivative`` (units per second) are the filtered ones of the previous sample, ``dt``
     seconds before ``x``. Returns the new (value, derivative)."""
     a_d = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * d_cutoff * dt))
+    if len(x) == 2:   # a position, unrolled (the tracker's most frequent call)
+        (x0, x1), (v0, v1), (d0, d1) = x, value, derivative
+        d0 += a_d * ((x0 - v0) / dt - d0)
+        d1 += a_d * ((x1 - v1) / dt - d1)
+        a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * (min_cutoff + beta * math.sqrt(
+            d0 * d0 + d1 * d1)) * dt))
+        return [v0 + a * (x0 - v0), v1 + a * (x1 - v1)], [d0, d1]
     d = [di + a_d * ((xi - vi) / dt - di) for xi, vi, di in zip(x, value, derivative)]
     speed = math.sqrt(sum(di * di for di in d))
     a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * (min_cutoff + beta * speed) * dt))

@@ -6,14 +6,18 @@ Per marker id one track. Each update:
    (a duplicate id in one frame is resolved by consistency with the track, not by order); one
    outside the gate (``gate_m`` plus ``max_speed`` times the time since the puck was last seen)
    is an outlier and ignored, unless it is seen again at the same place ``confirm_frames`` times
-   in a row (the puck was really moved there);
+   in a row (the puck was really moved there), but not a still place while the track was moving.
+   Far readings are followed as the track's rival (tracking.rivals): a rival that moves while
+   the track lies still is the puck, and the place left is a print. Ids not in
+   ``TrackerSettings.pucks`` (when it names the pucks) are no puck;
 2. filtering: the One Euro filter (tracking.filters) on position and on the unwrapped heading;
 3. occlusion: a track whose source delivers a frame without it is predicted with a decaying
-   constant velocity and reported ``coasting`` for up to ``coast_s``, then dropped. A hidden puck
-   is never ``seen``. When it comes back, its measured pose (``raw_*``) is reported at once and
-   its smoothed pose (``x``, ``y``, ``angle``) moves at most ``reacquire_step_m`` per update
-   toward it, until a second reading confirms it: the next, within ``CONFIRM_GAP_S`` at the
-   same place (a puck put down), or a relocation. Then it is shown where it is measured;
+   velocity turning at the puck's measured rate of turn (tracking.turning) and reported
+   ``coasting`` for up to ``coast_s``, then dropped. A hidden puck is never ``seen``. When it
+   comes back, its measured pose (``raw_*``) is reported at once and its smoothed pose (``x``,
+   ``y``, ``angle``) moves at most ``reacquire_step_m`` per update toward it, until a second
+   reading confirms it: the next, within ``CONFIRM_GAP_S`` and no faster than ``max_speed``
+   from the first, or a relocation. Then it is shown where it is measured;
 4. velocity (``vx``, ``vy``) and angular velocity (``omega``): the measurement's own when its
    source measured them (a TUIO sender's), else estimated from the positions, low-passed.
 
@@ -31,11 +35,15 @@ from typing import Iterable, Sequence
 
 from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
 from tracking.filters import one_euro_floats, scale_beta
+from tracking.reacquire import reacquired
+from tracking.rivals import Rival, follow, screened
+from tracking.turning import (TURN_SPEED, decayed_travel, extend_trail, led_velocity, turn_sample,
+                              turned_travel, turned_velocity)
 
 MAX_OMEGA = 8.0 * math.pi   # rad/s: 4 turns a second, faster than a hand turns a puck
+STILL_SPEED = 0.05  # m/s: a puck moving slower between two readings is lying still
 SPARSE_GAP_S = 0.2  # s: a puck seen again this soon is one track, seen sparsely (motion blur)
 CONFIRM_GAP_S = 0.07  # s: a second reading this soon after a return confirms it (2 frames at 30 Hz)
-STILL_SPEED = 0.05  # m/s: a puck moving slower between two readings is lying still
 
 
 @dataclass(frozen=True)
@@ -52,6 +60,8 @@ class TrackerSettings:
     ``confirm_frames``: consistent far sightings that relocate a puck.
     ``velocity_cutoff_hz``: low-pass of the velocity estimate.
     ``stale_s``: a puck whose source has delivered nothing for that long is coasting.
+    ``pucks``: the ids of the pucks on the table; a reading of another id (a print, a stray
+    marker) is no puck. Empty: every id read is a puck.
     """
 
     min_cutoff: float = 0.2
@@ -77,14 +87,7 @@ class TrackerSettings:
     velocity_cutoff_hz: float = 5.0
     stale_s: float = 0.25
     units_per_metre: float = 1.0
-
-
-def decayed_travel(v: float, dt: float, decay_s: float) -> float:
-    """Distance travelled in ``dt`` seconds from velocity ``v`` decaying exponentially with time
-    constant ``decay_s``: v * decay_s * (1 - exp(-dt / decay_s))."""
-    if dt <= 0.0:
-        return 0.0
-    return v * decay_s * (1.0 - math.exp(-dt / decay_s))
+    pucks: tuple[int, ...] = ()
 
 
 @dataclass
@@ -110,8 +113,16 @@ class _Track:
     gap: list[float] = dataclasses.field(default_factory=lambda: [0.0, 0.0, 0.0])
     candidate: tuple[float, float] | None = None
     candidate_count: int = 0
+    candidate_t: float = 0.0       # time of the last far reading taken as the candidate
     coast_t: float = 0.0           # time of the newest coasting prediction
+    vspan: float = 0.0             # s: time span of the last chord in the velocity
+    vfiltered: bool = True         # the velocity is low-passed (else a chord)
+    turn: float = 0.0              # rad/s: rate of turn of the velocity's direction
+    trail: list[tuple[float, float, float]] = dataclasses.field(default_factory=list)  # t, x, y
+    steady: bool = False  # its turn was measured before its last return (3 readings or more)
     chord: tuple[float, float] = (0.0, 0.0)  # velocity estimate before any damping
+    rival: Rival | None = None     # far readings of its id (tracking.rivals)
+    decoy: tuple[float, float] | None = None  # a still place of its id that is not the puck
 
 
 class PuckTracker:
@@ -192,7 +203,10 @@ class PuckTracker:
     def _apply(self, measurements: Sequence[PuckMeasurement], t: float, source: str,
                complete: bool) -> None:
         by_id: dict[int, list[PuckMeasurement]] = {}
+        named = self.s.pucks
         for m in measurements:
+            if named and int(m.id) not in named:
+                continue
             if math.isfinite(m.x) and math.isfinite(m.y) and math.isfinite(m.angle):
                 by_id.setdefault(int(m.id), []).append(m)
         for pid, ms in by_id.items():
@@ -221,15 +235,42 @@ class PuckTracker:
         if t < tr.t:
             return True  # older than what the track already holds (another source): ignore
         px, py = self._predicted(tr, t)
+        gate, u = self._gate(tr, t), self.s.units_per_metre
+        if len(ms) == 1 and tr.decoy is None:   # the usual case, without list overhead
+            if math.hypot(ms[0].x - px, ms[0].y - py) <= gate:
+                tr.candidate, tr.candidate_count = None, 0
+                self._accept(tr, ms[0], source, relocated=False)
+                return True
         dists = [math.hypot(m.x - px, m.y - py) for m in ms]
+        if tr.decoy is not None:
+            ms, dists = screened(ms, dists, tr.decoy, u * self.s.gate_m)
+            if not ms:
+                return False
+        far = [i for i in range(len(ms)) if dists[i] > gate]
+        if far:
+            m = ms[min(far, key=lambda i: math.dist((ms[i].x, ms[i].y), (tr.rival.x, tr.rival.y))
+                       if tr.rival else dists[i])]
+            reach = u * (self.s.gate_m + self.s.max_speed * (t - tr.rival.t if tr.rival else 0.0))
+            r = tr.rival = follow(tr.rival, m.x, m.y, t, reach, tr.meas, u * self.s.gate_m)
+            if (r.moved() > u * self.s.gate_m and tr.state == "seen"
+                    and math.hypot(tr.meas[0] - r.tx, tr.meas[1] - r.ty) <= u * self.s.gate_m):
+                # The rival moves, the track's place lies still: the rival is the puck.
+                # Rendered frames, puck and print of its marker lying still, the puck then
+                # moved at 0.4 m/s: taken 0.15-0.2 s after it starts, then 5-11 mm off (held
+                # by the print, 0.47-0.57 m); the bench's figures without prints unchanged.
+                tr.decoy, tr.rival = (tr.meas[0], tr.meas[1]), None
+                tr.candidate, tr.candidate_count = None, 0
+                self._accept(tr, m, source, relocated=True)
+                return True
         k = min(range(len(ms)), key=dists.__getitem__)
-        if dists[k] <= self._gate(tr, t):
+        if dists[k] <= gate:
             tr.candidate, tr.candidate_count = None, 0
             self._accept(tr, ms[k], source, relocated=False)
             return True
         # Far from the track: a false detection, unless it keeps appearing at the same place.
         m = ms[k]
-        u = self.s.units_per_metre
+        still_at, still_t = tr.candidate, tr.candidate_t
+        tr.candidate_t = t
         if (tr.candidate is not None
                 and math.hypot(m.x - tr.candidate[0], m.y - tr.candidate[1]) <= u * self.s.gate_m):
             tr.candidate_count += 1
@@ -238,6 +279,15 @@ class PuckTracker:
         tr.candidate = (m.x, m.y)
         if tr.candidate_count >= self.s.confirm_frames:
             tr.candidate, tr.candidate_count = None, 0
+            if (math.hypot(*tr.chord) > STILL_SPEED * u and not tr.reacquiring
+                    and still_at is not None and math.hypot(m.x - still_at[0], m.y - still_at[1])
+                    <= STILL_SPEED * u * max(t - still_t, 0.0) + 1e-3 * u):
+                # A still place read again and again while the track was moving: a print
+                # of its marker, not the puck moved there. Rendered frames, a circling puck
+                # hidden 0.3 s by a hand: 53-57 mm off while coasting (relocated to the print,
+                # 0.47-0.63 m off until dropped).
+                tr.decoy = (m.x, m.y)
+                return False
             self._accept(tr, m, source, relocated=True)
             return True
         return False
@@ -262,31 +312,34 @@ class PuckTracker:
         # puck lifted for 0.3 s and put back 0.14 m away: within 10 mm from its second reading,
         # read every frame (else 12-13 readings, 1 cm each) or every other (else 4-5). One
         # reading alone moves it as before (none of 4,198 readings among hands was false).
-        # Confirming a moving puck too (a hand over a 0.5 m/s puck: 13 readings -> 1, overall
-        # p95 62 -> 16 mm at 60 Hz, 104 -> 49 mm at 30 Hz) made pucks read in 8-11% of frames
-        # (12-13 mm blur, 60 Hz) worse: coasting on from the reading overshoots the circle,
-        # overall p95 188 -> 198 and 186 -> 197 mm, nine seeds pooled; confirmed only after
-        # 3 or 4 readings in a row, still 6-7 figures worse (30 Hz hand, p95 113.2 -> 113.3).
-        # Coasting at the measured rate of turn of the direction of travel (a constant turn
-        # rate model) and confirming only pucks whose turn was measured before they were hidden:
-        # 74 figures better (hand at 0.5 m/s p95 25 -> 12 mm at 60 Hz, 71 -> 14 mm at 30 Hz;
-        # 12.8 mm blur, 60 Hz, 188 -> 180 mm), 2 worse: back and forth at 1.5 m/s, 60 Hz, p95
-        # 375.2 -> 375.3 mm, and a hand over a 1 m/s puck at 30 Hz, median 11.248 -> 11.252 mm.
+        # A moving puck too, once its turn was measured (tracking.turning): a hand over a 0.5
+        # m/s puck, 13 readings -> 1. Coasting along the tangent, snapping made pucks read in
+        # 8-11% of frames (12-13 mm blur, 60 Hz) worse, overall p95 188 -> 198 mm, nine seeds
+        # pooled; coasting on the measured turn, 188 -> 180 mm (74 figures better, 2 worse:
+        # back and forth at 1.5 m/s p95 375.2 -> 375.3, 30 Hz hand median 11.248 -> 11.252 mm;
+        # read every other frame at 60 Hz, error at the 12th frame after 4.715 -> 4.784 mm).
         confirmed = relocated or (tr.reacquiring and not returning and 0.0 < dt <= CONFIRM_GAP_S
                                   and math.hypot(meas[0] - old[0], meas[1] - old[1])
-                                  <= STILL_SPEED * u * dt)
+                                  <= (s.max_speed if tr.steady else STILL_SPEED) * u * dt)
         if sparse and s.smooth and not confirmed:
             tr.pos, tr.ang = tr.out[:2], tr.out[2:]
+            if tr.anchor is not None:  # the straight prediction: filtered from the turned
+                # one, the filter's speed came out lower and it lagged more (9.6 mm blur, 60
+                # Hz, median 6.33 -> 6.36 mm)
+                k = decayed_travel(1.0, tr.coast_t - tr.t, s.coast_decay_s)
+                tr.pos = [tr.anchor[0] + k * tr.vx, tr.anchor[1] + k * tr.vy]
             tr.reacquiring = False
         if dt > 0.0:
             if relocated:
                 tr.vx = tr.vy = tr.omega = 0.0
+                tr.rival = None
             else:
                 a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * s.velocity_cutoff_hz * dt))
                 pv = tr.chord
                 if returning or sparse:  # no momentum carried through an occlusion
                     tr.vx = tr.vy = tr.omega = 0.0
                     a = 1.0 if dt < 0.1 else a
+                tr.vspan, tr.vfiltered = dt, not (returning or sparse)
                 tr.vx += a * ((meas[0] - old[0]) / dt - tr.vx)
                 tr.vy += a * ((meas[1] - old[1]) / dt - tr.vy)
                 tr.chord = (tr.vx, tr.vy)
@@ -299,11 +352,14 @@ class PuckTracker:
                         c = max(1.0 - math.hypot(tr.vx - pv[0], tr.vy - pv[1]) / n, 0.0)
                     tr.vx, tr.vy = c * tr.vx, c * tr.vy
                 tr.omega += a * ((meas[2] - old[2]) / dt - tr.omega)
+        self._turned(tr, meas, t, returning or relocated, relocated)
         _take_measured_velocity(tr, m, s.max_speed * u)
         if not sparse:
             tr.chord = (tr.vx, tr.vy)
         if returning or confirmed:
             tr.pos, tr.dpos, tr.ang, tr.dang = meas[:2], [0.0, 0.0], meas[2:], [0.0]
+            if confirmed and not relocated and dt > 0.0:  # the filter's speed: the chord's
+                tr.dpos = [(meas[0] - old[0]) / dt, (meas[1] - old[1]) / dt]
             tr.reacquiring = not confirmed
             target = list(meas)
         elif s.smooth and dt > 0.0:
@@ -319,56 +375,37 @@ class PuckTracker:
         else:
             target = list(meas)
         if tr.reacquiring:
-            tr.out = self._reacquired(tr, target, returning)
+            tr.out, tr.gap = reacquired(tr.out, target, tr.gap, returning,
+                                        s.reacquire_step_m * u, s.reacquire_step_rad, u)
             tr.reacquiring = tr.out != target
         else:
             tr.out = target
         tr.meas, tr.t, tr.source = meas, t, source
         tr.state, tr.anchor = "seen", None
 
-    def _reacquired(self, tr: _Track, target: list[float], returning: bool) -> list[float]:
-        """The pose shown for a reappeared puck measured at ``target``: the gap between the
-        two shrinks by at least ``reacquire_step_m`` (``_rad``) per update, the shown pose
-        either stepping toward the puck or keeping its shrunk offset from a moving puck,
-        whichever ends nearer. Stepping alone never catches a puck faster than a step per
-        update (0.01 m at 60 Hz: 0.6 m/s; pucks move up to 1.5 m/s). Measured on rendered
-        frames (1280x720, 60 Hz, four pucks circling), p95 error of the shown pose while seen:
-        a puck at 1-1.5 m/s hidden by a hand for 0.15-0.3 s, 79-91 mm stepping alone, 14-19 mm
-        so; motion blur of 9.6 mm (0.6 m/s, 16 ms shutter), 34-60 mm and 14-17 mm."""
-        s, out = self.s, tr.out
-        # A step per update, not per 1/60 s: scaled by the time between updates, at 30 Hz
-        # the shown pose while seen improved (hand over a puck at 0.5 m/s: p95 40-47 ->
-        # 12-14 mm) but overall p95 grew at 1 m/s (126-127 -> 127-129 mm) and, scaled at
-        # returns too, with 5% of frames read (217 -> 232 mm): kept per update.
-        lim = s.reacquire_step_m * s.units_per_metre
-        out[2] = target[2] + wrap_angle(out[2] - target[2])  # the measurement's branch
-        if returning:
-            tr.gap = [out[0] - target[0], out[1] - target[1], out[2] - target[2]]
-            g = math.hypot(tr.gap[0], tr.gap[1])
-            cap = 0.15 * s.units_per_metre  # the shown pose held within 0.15 m of a puck back
-            # after a long coast, not 0.3-0.77 m away (hand over a 1 m/s puck, 60 Hz: p95 101
-            # -> 49 mm)
-            if g > cap:
-                tr.gap[0] *= cap / g
-                tr.gap[1] *= cap / g
-        gx, gy, ga = tr.gap
-        d = math.hypot(gx, gy)
-        k = max(d - lim, 0.0) / d if d > 0.0 else 0.0
-        held = [target[0] + gx * k, target[1] + gy * k]           # the offset kept, shrunk
-        sx, sy = target[0] - out[0], target[1] - out[1]
-        e = math.hypot(sx, sy)
-        j = min(lim / e, 1.0) if e > 0.0 else 0.0
-        stepped = [out[0] + sx * j, out[1] + sy * j]              # a step toward the puck
-        if math.dist(stepped, target[:2]) < math.dist(held, target[:2]):
-            held = stepped
-        ga = math.copysign(max(abs(ga) - s.reacquire_step_rad, 0.0), ga)
-        sa = target[2] - out[2]
-        sa = min(max(sa, -s.reacquire_step_rad), s.reacquire_step_rad)
-        a = out[2] + sa if abs(target[2] - out[2] - sa) < abs(ga) else target[2] + ga
-        tr.gap = [held[0] - target[0], held[1] - target[1], a - target[2]]
-        if math.hypot(*tr.gap[:2]) <= 1e-12 and abs(tr.gap[2]) <= 1e-12:
-            return list(target)
-        return [held[0], held[1], a]
+    def _turned(self, tr: _Track, meas: list[float], t: float, broken: bool,
+                relocated: bool) -> None:
+        """Update the rate of turn of the puck's direction of travel (tracking.turning). A puck
+        back from a coast keeps turning as it did; a relocated one does not. Reset at a return,
+        pucks on 9 cm circles read in 7-8% of frames (12.8 mm blur) were shown worse: overall
+        p95 181.7 -> 189.6 mm at 60 Hz, 180.0 -> 184.9 mm at 30 Hz, nine seeds pooled."""
+        if broken:
+            tr.steady = len(tr.trail) >= 3 and not relocated
+            tr.trail = []
+            if relocated:
+                tr.turn = 0.0
+        if tr.trail and t <= tr.trail[-1][0]:
+            return  # another reading of the same moment
+        tr.trail = extend_trail(tr.trail, t, meas[0], meas[1])
+        if len(tr.trail) < 3:
+            return
+        sample = turn_sample(tr.trail, TURN_SPEED * self.s.units_per_metre)
+        if sample is None:  # turned back, not turning
+            tr.turn = 0.0
+            return
+        dt = max(t - tr.t, 1e-6)
+        a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * self.s.velocity_cutoff_hz * dt))
+        tr.turn += a * (min(max(sample, -MAX_OMEGA), MAX_OMEGA) - tr.turn)
 
     def _miss(self, tr: _Track, t: float) -> None:
         # A reappeared puck's gap is held, not closed, while it is hidden again: closing it
@@ -378,8 +415,14 @@ class PuckTracker:
             tr.state, tr.anchor = "coasting", list(tr.out)
         k = decayed_travel(1.0, t - tr.t, self.s.coast_decay_s)
         a = tr.anchor
-        tr.out = [a[0] + k * tr.vx, a[1] + k * tr.vy, a[2] + k * tr.omega]
+        dx, dy = turned_travel(*self._led(tr), tr.turn, t - tr.t, self.s.coast_decay_s)
+        tr.out = [a[0] + dx, a[1] + dy, a[2] + k * tr.omega]
         tr.coast_t = max(t, tr.t)
+
+    def _led(self, tr: _Track) -> tuple[float, float]:
+        """The held velocity turned to where the puck heads when it was last read."""
+        return led_velocity(tr.vx, tr.vy, tr.turn, tr.vspan,
+                            self.s.velocity_cutoff_hz if tr.vfiltered else None)
 
     def _expire(self, t: float) -> None:
         for tr in self.tracks.values():
@@ -389,10 +432,12 @@ class PuckTracker:
             del self.tracks[pid]
 
     def _puck(self, tr: _Track) -> Puck:
-        k = 1.0
-        if tr.state == "coasting":
-            k = math.exp(-max(tr.coast_t - tr.t, 0.0) / self.s.coast_decay_s)
-        return Puck(tr.id, tr.out[0], tr.out[1], wrap_angle(tr.out[2]), tr.vx * k, tr.vy * k,
+        k, vx, vy = 1.0, tr.vx, tr.vy
+        if tr.state == "coasting":  # the velocity of the prediction shown: turned and faded
+            dt = max(tr.coast_t - tr.t, 0.0)
+            k = math.exp(-dt / self.s.coast_decay_s)
+            vx, vy = turned_velocity(*self._led(tr), tr.turn, dt, self.s.coast_decay_s)
+        return Puck(tr.id, tr.out[0], tr.out[1], wrap_angle(tr.out[2]), vx, vy,
                     tr.omega * k, tr.state,  # type: ignore[arg-type]
                     raw_x=tr.meas[0], raw_y=tr.meas[1], raw_angle=wrap_angle(tr.meas[2]))
 

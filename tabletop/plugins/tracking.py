@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence
 
 import dataclasses
 
 from tabletop.frames import Observation, Puck
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, Context, MapOf, Number, Record, Str, shown
+from tabletop.schema import Bool, Context, ListOf, MapOf, Number, Record, Str, shown
 from tracking.pucks import PuckTracker, TrackerSettings
 
 if TYPE_CHECKING:
@@ -55,6 +55,9 @@ SCHEMA = Record({
     "puck_ids": MapOf(Number(integer=True, lo=0, hi=1_000_000), default={},
                       doc="marker id -> puck id, for pucks whose marker id differs from the id "
                           "the engines use (e.g. a replaced puck); others keep their marker id"),
+    "pucks": ListOf(Number(integer=True, lo=0, hi=1_000_000), default=[],
+                    doc="the puck ids on the table (after puck_ids): a reading of any other id "
+                        "(a print, a stray marker) is no puck and not shown; [] = every id read"),
     "error_correction_rate": Number(0.6, lo=0.0, hi=1.0,
                                     doc="share of the dictionary's bit correction used; lower "
                                         "admits fewer false ids"),
@@ -142,7 +145,7 @@ def tracker_settings(options: Mapping[str, Any] | None, units_per_metre: float =
         reacquire_step_rad=o["reacquire_step_rad"], gate_m=o["gate_m"],
         max_speed=o["max_speed"], confirm_frames=o["confirm_frames"],
         velocity_cutoff_hz=o["velocity_cutoff_hz"], stale_s=o["stale_s"],
-        units_per_metre=units_per_metre)
+        units_per_metre=units_per_metre, pucks=tuple(sorted(set(o["pucks"]))))
 
 
 def puck_id_map(options: Mapping[str, Any] | None) -> dict[int, int]:
@@ -196,9 +199,14 @@ class Tracker(PuckTracker):
         return {self._marker_of.get(pid, pid): xy for pid, xy in self.predict(t).items()}
 
 
-def build_tracker(options: Mapping[str, Any], ctx: BuildContext | None = None) -> Tracker:
-    """The puck tracker for the section ``options`` (table metres)."""
-    return Tracker(tracker_settings(options), puck_id_map(options))
+def build_tracker(options: Mapping[str, Any], ctx: BuildContext | None = None,
+                  also: Iterable[int] = ()) -> Tracker:
+    """The puck tracker for the section ``options`` (table metres); ids ``also`` (the studio's
+    control markers) are kept when ``pucks`` names the pucks."""
+    settings = tracker_settings(options)
+    if settings.pucks:
+        settings = dataclasses.replace(settings, pucks=tuple(sorted({*settings.pucks, *also})))
+    return Tracker(settings, puck_id_map(options))
 
 
 def build_detector(options: Mapping[str, Any] | None = None) -> MarkerTracker:

@@ -398,3 +398,14 @@ def test_a_puck_no_source_moves_is_warned_of(tmp_path):
     pucks = {"enabled": True, "main_puck": 1, "react_puck": 2}
     assert said({"kind": "scripted", "pucks": [1, 2, 3]}, pucks) == []
     assert said({"kind": "camera"}, pucks) == []
+
+
+def test_an_engine_puck_missing_from_the_named_pucks(tmp_path, capfd):
+    # the tracker shows only the named pucks: the character would never see puck 1
+    lover = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
+    code, err = run_config(tmp_path, "sources: [{kind: scripted}]\nengines:\n  - {kind: "
+                           f"puppet_master, name: lover, behavior: {lover}, main: {{puck: 1}}}}\n"
+                           "tracking: {pucks: [2, 3]}\nview: {enabled: false}\n", capfd)
+    assert code == 2 and one_line(err).endswith("kiosk.yaml: engines[0].main.puck: puck 1 is not "
+                                                "in tracking.pucks [2, 3]; the tracker shows only "
+                                                "those: add it there")

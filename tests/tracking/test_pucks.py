@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from tabletop.frames import Observation, PuckMeasurement
+from tabletop.frames import Observation, PuckMeasurement, wrap_angle
 from tracking.pucks import PuckTracker, TrackerSettings
 from tracking.scenes import CameraPipeline, grid_poses
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
@@ -235,12 +235,12 @@ def test_a_measured_velocity_beyond_belief_is_held_to_the_fastest_plausible_puck
     assert p.state == "coasting" and abs(p.x - 0.5) < s.max_speed / FPS
 
 
-def test_a_fast_puck_found_again_is_caught_up_with_without_a_jump():
+def test_a_fast_puck_found_again_is_shown_where_it_is_from_its_second_reading():
     """A puck moving at 0.9 m/s (60 Hz) hidden for 0.3 s reappears about 12 cm from its shown
-    pose. The shown pose follows it and closes that gap by a step (1 cm) per frame: within
-    0.2 s it is under 15 mm off, within 0.5 s 4 mm (stepping toward it alone, slower than the puck,
-    fell 29 cm behind), and it never jumps: each frame it moves at most the puck's own step
-    plus the reacquire step (and the filter's few millimetres)."""
+    pose. Its first reading moves the shown pose at most the puck's own step plus the reacquire
+    step (1 cm) and keeps it within 0.15 m of the reading; the second reading confirms it and
+    the puck is shown where it is, then behind it by the filter's lag (measured: 0 mm, then
+    3.2-3.9 mm; crept back a step a frame, it was 116-119 mm off for the next 3 frames)."""
     tr, fps = PuckTracker(), 60.0
     errors, prev = [], None
     for k in range(80):
@@ -249,9 +249,10 @@ def test_a_fast_puck_found_again_is_caught_up_with_without_a_jump():
         p = tr.step([] if 30 <= k < 48 else [PuckMeasurement(1, x, y, 0.0, t)], t)[0]
         if k >= 48:
             errors.append(math.hypot(p.x - x, p.y - y))
+        if k == 48:
             assert math.hypot(p.x - prev[0], p.y - prev[1]) <= 0.9 / fps * 1.05 + 0.01 + 0.003
         prev = (p.x, p.y)
-    assert errors[0] > 0.1 and errors[12] < 0.015 and max(errors[-10:]) < 0.005, errors
+    assert 0.1 < errors[0] <= 0.15 + 1e-9 and max(errors[1:]) < 0.005, errors
 
 
 def test_puck_read_every_sixth_frame_under_blur_is_shown_near_where_it_is_read():
@@ -266,3 +267,25 @@ def test_puck_read_every_sixth_frame_under_blur_is_shown_near_where_it_is_read()
         if seen and k >= 10:
             errs.append(math.hypot(p.x - x, p.y - 0.4))
     assert max(errs) < 0.04
+
+
+def test_a_coasting_puck_reports_the_velocity_it_is_shown_moving_at():
+    """A puck on a 0.1 m circle at 1 m/s (60 Hz) hidden for 0.2 s: the reported velocity of the
+    coasting puck turns with its shown pose. Measured: its direction within 0.5 deg of the
+    puck's and of the shown pose's own motion (the chord between two frames, 4.8 deg back),
+    its speed 2.7% under the chord's (it fades within the frame)."""
+    tr, fps, r, w = PuckTracker(), 60.0, 0.1, 10.0
+    prev = None
+    for k in range(42):
+        t = k / fps
+        x, y = 0.5 + r * math.cos(w * t), 0.4 + r * math.sin(w * t)
+        p = tr.step([] if k >= 30 else [PuckMeasurement(1, x, y, 0.0, t)], t)[0]
+        if k > 30:
+            heading = math.atan2(p.vy, p.vx)
+            assert abs(wrap_angle(heading - (w * t + math.pi / 2))) < math.radians(1.0)
+            chord = (p.x - prev[0], p.y - prev[1])
+            turned = wrap_angle(heading - math.atan2(chord[1], chord[0]))
+            assert abs(turned - 0.5 * w / fps) < math.radians(0.5)
+            assert math.hypot(p.vx, p.vy) == pytest.approx(math.hypot(*chord) * fps, rel=0.035)
+        prev = (p.x, p.y)
+    assert p.state == "coasting"

@@ -7,7 +7,7 @@ import pytest
 from tabletop.frames import Observation, PuckMeasurement
 from tabletop.plugins import tracking as plugin
 from tabletop.schema import ConfigError
-from tracking.scenes import grid_poses
+from tracking.scenes import CameraPipeline, grid_poses
 from tracking.synthetic import CameraSettings, SyntheticCamera
 
 
@@ -81,3 +81,29 @@ def test_a_fresh_tracker_finds_every_marker_of_a_tilted_camera_in_its_first_fram
         rig.show(None)
         ids, _ = build_detector({}).detect(rig.grab(), {})
         assert sorted(int(i) for i in ids) == list(range(12)), (seed, sorted(ids))
+
+
+def test_named_pucks_keep_other_ids_off_the_table_but_the_studio_control_markers():
+    """``pucks`` names the pucks (after ``puck_ids``): a reading of another id is no puck;
+    ids ``also`` (the studio's control markers) pass. Unnamed, every id read is a puck."""
+    seen = tuple(PuckMeasurement(i, 0.1 * i, 0.2, 0.0, 0.0) for i in (17, 5, 46))
+    obs = Observation("cam", 0.0, 1, pucks=seen)
+    named = plugin.complete({"pucks": [1], "puck_ids": {"17": 1}})
+    assert [p.id for p in plugin.build_tracker(named, None, [46]).update([obs], 0.0)] == [1, 46]
+    every = plugin.build_tracker(plugin.complete({"puck_ids": {"17": 1}}), None, [46])
+    assert [p.id for p in every.update([obs], 0.0)] == [1, 5, 46]
+    with pytest.raises(ConfigError, match=r"tracking.pucks\[0\]"):
+        plugin.complete({"pucks": ["one"]})
+
+
+def test_a_stray_marker_on_the_table_is_no_puck_when_the_pucks_are_named():
+    """Rendered frames through the real detector: pucks 1 and 2 and a stray marker 7 (another
+    installation's puck, a print). Named pucks [1, 2]: 7 is never shown (unnamed: on every
+    frame)."""
+    cam = SyntheticCamera(CameraSettings(blur_sigma=0.8, noise_sigma=3.0, seed=2))
+    pipe = CameraPipeline(cam, plugin.tracker_settings({"pucks": [1, 2]}))
+    shown = set()
+    for k in range(10):
+        frame = cam.render([(1, 0.3, 0.3, 0.0), (2, 0.8, 0.5, 1.0), (7, 0.6, 0.2, 2.0)], k / 30)
+        shown |= {p.id for p in pipe.process(frame)}
+    assert shown == {1, 2}
