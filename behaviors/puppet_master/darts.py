@@ -12,11 +12,25 @@ contact 0.0064 against its designer's 0.050 (counter-clockwise 0.051 / 0.041; se
 40-51, 128-139 loops paths, Python step), the contact share following the loops' sense
 (correlation -0.60 with the share of clockwise less counter-clockwise steps; its designer's
 0.0): the loops paths' misses were the counter-clockwise ones over, the clockwise under.
+
+Kept whole (dart_ends) while the friend is farther out than its moment, the inward step held
+(less_inward), and ended once the live main came nearer it over the last DART_SPAN_S than the
+moment's main did + DART_MARGIN (dart_goes_on). The friend's misses on its contact, its
+designer meeting the band (bench/fidelity.py's engine's alone; the friend generated alone,
+relative_motion x 1, 1 +- 0.001 / 0.002 / 0.003, summed over the seven runs), on seeds 0-5 /
+40-51 / 128-139: 11 / 25 / 26 -> 7 / 11 / 17 (a run 0-3 / 2-5 / 1-5 -> 0-2 / 0-3 / 1-4);
+held-out 300-311 over nine runs (also 1 +- 0.004) 20 -> 21 (0-4 -> 1-4). Kept whole to
+the bottom with no end 7 / 12 / 19, 300-311 24; the main's approach read over one step
+(demonstrated.main_approach) swung 300-311 from 0 / 3 / 1 to 2-8 a run in three, the base's
+low draw. Over the span with the margin at 0 m/s, 300-311 over five runs 19 (base 6, 13
+with no end), 0 m/s and the span's turn within 0.5 rad of the moment main's 16, 0.1 m/s
+and 0.3 rad 14, 0.2 m/s 11 (0.2 m/s: 5 cm over the span).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -53,6 +67,19 @@ def span_approach(nx: float, ny: float, ox: float, oy: float, bx: float, by: flo
     (metres; negative away) from the span's oldest position (ox, oy) to its newest (nx, ny)."""
     rho = math.hypot(bx, by)
     return ((nx - ox) * bx + (ny - oy) * by) / rho if rho > 1e-9 else 0.0
+
+
+def dart_goes_on(recent: Sequence[tuple[float, float]], n: int, moment: float, dt: float,
+                 mx: float, my: float, bx: float, by: float) -> bool:
+    """Whether a dart kept whole goes on: the live main at (mx, my) (table metres; its
+    reactor at (bx, by) from its last position) came no nearer its reactor over its last
+    ``n`` steps of ``dt`` seconds (from the oldest but n - 1 of ``recent``, its positions
+    before this one) than the moment's main did (``moment`` metres, span_approaches) +
+    DART_MARGIN; so while fewer are known."""
+    if len(recent) < n:
+        return True
+    ox, oy = recent[-n]
+    return span_approach(mx, my, ox, oy, bx, by) <= moment + DART_MARGIN * n * dt
 
 
 def span_approaches(main: np.ndarray, react: np.ndarray, n: int) -> list[float]:

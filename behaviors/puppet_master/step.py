@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.character import FOLLOW_SHARE
-from behaviors.puppet_master.darts import DART_MARGIN, less_inward, span_approach
+from behaviors.puppet_master.darts import dart_goes_on, less_inward
 from behaviors.puppet_master.generation import (capped, less_approach, mean_capped, share_around,
                                                 step_around, target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
@@ -63,8 +63,9 @@ class GenerationStep(StepDetail):
         rx, ry, _ = self.pose
         mxp, myp = self.main_motion.x, self.main_motion.y
         if 0 <= self.source < self._dart_end and math.hypot(
-                rx - mxp, ry - myp) > b.distance[self.source] and self._dart_gate(
-                mx, my, rx - mxp, ry - myp):
+                rx - mxp, ry - myp) > b.distance[self.source] and dart_goes_on(
+                self._main_recent, b.dart_span, b.span_approach[self.source + 1], self.dt, mx,
+                my, rx - mxp, ry - myp):
             # a dart the match has entered is kept whole to its bottom while the friend is
             # farther out than its moment (darts.py: why; the figures at _trajectory's dart)
             self.source = target = self.source + 1
@@ -84,17 +85,6 @@ class GenerationStep(StepDetail):
                 self.patch.restart()
         self.source = target
         return target
-
-    def _dart_gate(self, mx: float, my: float, bx: float, by: float) -> bool:
-        """Whether a kept dart goes on: the live main at (mx, my) (table metres; the friend at
-        (bx, by) from its last position) came no nearer over its last DART_SPAN_S
-        (darts.span_approach) than the moment's main did + DART_MARGIN."""
-        b, r = self.behavior, self._main_recent
-        n = b.dart_span
-        if len(r) < n:
-            return True
-        a = span_approach(mx, my, r[-n][0], r[-n][1], bx, by)
-        return a <= b.span_approach[self.source + 1] + DART_MARGIN * n * self.dt
 
     def _trajectory(self, target: int, mx: float, my: float,
                     md: float) -> tuple[float, float]:

@@ -20,6 +20,7 @@ any of these must be made here too:
 - look.desired_look
 - features: EntityMotion.step, relative_pose, situation_row, since_step, since_row, room_row,
   coherence_row
+- darts (darts_kernel): dart_goes_on, span_approach, less_inward
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
@@ -37,14 +38,13 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import (apart, character, darts, generation_kernel, step_math,
+from behaviors.puppet_master import (apart, darts_kernel, generation_kernel, step_math,
                                      table_boundary)
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
     keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, no_deeper,
     out_of_way, share_around, step_around, table_reach, turn_between, turn_off_edges)
-from behaviors.puppet_master.character import TOUCH_M
-from behaviors.puppet_master.darts import DART_MARGIN
+from behaviors.puppet_master.darts_kernel import dart_goes_on, less_inward
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -80,7 +80,8 @@ CONSTANTS = 59
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
-    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH, T_DART_END, T_SPAN_APPROACH = range(24)
+    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH, T_DART_END, \
+    T_SPAN_APPROACH = range(24)
 
 PLACE_WORLD = 1.0
 GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
@@ -166,42 +167,6 @@ def main_stopped(recent: np.ndarray, ints: np.ndarray, mx: float, my: float, spa
     return span >= 1
 
 
-@compiled(_f8(_f8, _f8, _f8, _f8, _f8, _f8), step_math)
-def span_approach(nx: float, ny: float, ox: float, oy: float, bx: float, by: float) -> float:
-    """darts.span_approach."""
-    rho = hypot(bx, by)
-    return ((nx - ox) * bx + (ny - oy) * by) / rho if rho > 1e-9 else 0.0
-
-
-@compiled(numba.boolean(_F2, _F2, _I1, _F1, numba.int64, _f8, _f8, _f8, _f8), step_math,
-          darts)
-def dart_gate(table: np.ndarray, recent: np.ndarray, ints: np.ndarray, c: np.ndarray, i: int,
-              mx: float, my: float, bx: float, by: float) -> bool:
-    """GenerationStep._dart_gate: the live main at (mx, my) over its span (the ring
-    ``recent``) beside the training sample ``i``'s."""
-    n = int(c[DART_SPAN])
-    if ints[RECENT_COUNT] < n:
-        return True
-    o = (ints[RECENT_HEAD] - n) % recent.shape[0]
-    a = span_approach(mx, my, recent[o, 0], recent[o, 1], bx, by)
-    return a <= table[i, T_SPAN_APPROACH] + DART_MARGIN * n * c[DT]
-
-
-@compiled(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _f8, _f8), step_math,
-          character)
-def less_inward(sx: float, sy: float, qx: float, qy: float, bx: float, by: float, dist: float,
-                disc: float) -> tuple[float, float]:
-    """darts.less_inward."""
-    rho = hypot(bx, by)
-    if not 1e-9 < rho < TOUCH_M <= dist:
-        return sx, sy
-    a = (qx * bx + qy * by) / rho
-    if a >= 0.0:
-        return sx, sy
-    f = 1.0 - _max(0.0, _min(1.0, (rho - disc) / (dist - disc)))
-    return sx - f * a * bx / rho, sy - f * a * by / rho
-
-
 @compiled(numba.boolean(_F1, numba.int64[::1], _F1, _f8, _f8), step_math)
 def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: float,
            coherence_cost: float) -> bool:
@@ -222,7 +187,7 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
 
 @compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
                       _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
-          step_math, generation_kernel, table_boundary, apart, character, darts)
+          step_math, generation_kernel, table_boundary, apart, darts_kernel)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
@@ -239,8 +204,9 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     ints[KEPT_DART] = 0
     if 0 <= ints[SOURCE] < ints[DART_END] and hypot(
             fs[RX] - fs[MAIN_X], fs[RY] - fs[MAIN_Y]) > table[ints[SOURCE], T_DISTANCE] \
-            and dart_gate(table, recent, ints, c, ints[SOURCE] + 1, mx, my, fs[RX] - fs[MAIN_X],
-                          fs[RY] - fs[MAIN_Y]):
+            and dart_goes_on(recent, ints[RECENT_COUNT], ints[RECENT_HEAD], int(c[DART_SPAN]),
+                             table[ints[SOURCE] + 1, T_SPAN_APPROACH], c[DT], mx, my,
+                             fs[RX] - fs[MAIN_X], fs[RY] - fs[MAIN_Y]):
         target = ints[SOURCE] + 1
         ints[KEPT_DART] = 1
     else:
