@@ -38,7 +38,7 @@ from behaviors.puppet_master.character import TOUCH_M
 
 DART_DEPTH = 0.03   # m: the least fall from a run-up sample to its dart's bottom
 DART_SPAN_S = 0.25   # s: the main's approach read over this span
-DART_MARGIN = 0.2    # m/s: how much faster than the moment's main the live main may close
+DART_MARGIN = 0.1    # m/s: how much faster than the moment's main the live main may close
 
 
 def dart_ends(distance: np.ndarray, touch: float, depth: float = DART_DEPTH) -> list[int]:
