@@ -18,13 +18,14 @@ Kept whole (dart_ends) while the friend is farther out than its moment, the inwa
 moment's main did + DART_MARGIN (dart_goes_on). The friend's misses on its contact, its
 designer meeting the band (bench/fidelity.py's engine's alone; the friend generated alone,
 relative_motion x 1, 1 +- 0.001 / 0.002 / 0.003, summed over the seven runs), on seeds 0-5 /
-40-51 / 128-139: 11 / 25 / 26 -> 7 / 11 / 17 (a run 0-3 / 2-5 / 1-5 -> 0-2 / 0-3 / 1-4);
-held-out 300-311 over nine runs (also 1 +- 0.004) 20 -> 21 (0-4 -> 1-4). Kept whole to
-the bottom with no end 7 / 12 / 19, 300-311 24; the main's approach read over one step
-(demonstrated.main_approach) swung 300-311 from 0 / 3 / 1 to 2-8 a run in three, the base's
-low draw. Over the span with the margin at 0 m/s, 300-311 over five runs 19 (base 6, 13
-with no end), 0 m/s and the span's turn within 0.5 rad of the moment main's 16, 0.1 m/s
-and 0.3 rad 14, 0.2 m/s 11 (0.2 m/s: 5 cm over the span).
+40-51 / 128-139: 11 / 25 / 26 -> 6 / 14 / 23 (a run 0-3 / 2-5 / 1-5 -> 0-2 / 1-4 / 2-6);
+held-out 300-311 over nine runs (also 1 +- 0.004) 20 -> 20 (0-4 both). With the margin at
+0.2 m/s 7 / 11 / 17 and 21, but fast mains drove it into theirs (seed 0's fast path: contact
+0.081 against the band's top 0.061; 0.051 at 0.1 m/s, 0.048 at 0 m/s, 0.039 never kept).
+Kept whole to the bottom with no end 7 / 12 / 19, 300-311 24; the main's approach read over
+one step (demonstrated.main_approach) swung 300-311 from 0 / 3 / 1 to 2-8 a run in three,
+the base's low draw. At 0 m/s, 300-311 over five runs 19 (base 6, 13 with no end), 0 m/s
+and the span's turn within 0.5 rad of the moment main's 16, 0.1 m/s and 0.3 rad 14.
 """
 
 from __future__ import annotations
