@@ -13,13 +13,12 @@ from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.character import TOUCH_M
 from behaviors.puppet_master.darts import (DART_DEPTH, DART_MARGIN, dart_goes_on,
                                            span_approaches)
-from tabletop import examples, library
+from tests.puppet_master.demos import shipped
 
 
 @pytest.fixture(scope="module")
 def friend() -> Behavior:
-    stored = library.load_behavior(examples.DEFAULT_OUT / "playful_friend")
-    return Behavior.train(stored.demonstration, **stored.parameters)
+    return shipped("playful_friend")
 
 
 def test_the_friends_run_ups_point_at_their_darts_bottoms(friend):
@@ -37,8 +36,7 @@ def test_the_friends_run_ups_point_at_their_darts_bottoms(friend):
 
 def test_only_the_circling_character_keeps_its_darts():
     for name in ("lover", "bully", "stalker", "afraid"):
-        stored = library.load_behavior(examples.DEFAULT_OUT / name)
-        b = Behavior.train(stored.demonstration, **stored.parameters)
+        b = shipped(name)
         assert not b.darts and max(b.dart_end) == -1, name
 
 
