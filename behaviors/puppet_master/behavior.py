@@ -22,6 +22,7 @@ from behaviors.puppet_master.character import (MIN_CHARGES, MIN_OWN_TOUCHES, PUC
                                                SINCE_WEIGHT, SPACE_PERCENTILE, STILL_MPS,
                                                STILL_SPAN_S, STOP_SPAN_S, STOPS_WITH_MAIN, TOUCH_M,
                                                WALKS_WITH_MAIN, WALKS_WITHIN, still_span)
+from behaviors.puppet_master.darts import dart_ends, span_approaches, span_steps
 from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
                                                   main_approach, own_touches, pace_ratio,
@@ -239,6 +240,12 @@ class Behavior:
         # difference from the moment's for the friend alone (always / on inward steps) 4 / 5
         # / 7 / 4, 1 / 7 / 7 / 3
         self.live_touch = TOUCH_M if self.charging or not self.circling else PUCK_M
+        # a circling character's darts (darts.py): kept whole, their inward step held
+        self.darts = self.circling and not self.charging
+        self.dart_end = (dart_ends(self.distance, TOUCH_M) if self.darts
+                         else [-1] * len(self.distance))
+        self.dart_span = span_steps(p.rate_hz)
+        self.span_approach = span_approaches(self.main[:, :2], self.react[:, :2], self.dart_span)
         self.situation_vectors = ft.situation_vectors(f, self.scales, room_m, still_m, since_m)
         # the room's part of a live sample's distance weighed by its main's nearness
         room_at = ft.room_column(self.scales)
@@ -368,7 +375,7 @@ class Behavior:
             self.place_frame, self.bearing_turn, self.distance, f.rel_fwd, f.rel_left,
             f.v_react, self.own_steps, self.world_rel, self.span_step, ~main_still,
             self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle, lk.detail,
-            self.charge_end, self.charge_touch, approach)]
+            self.charge_end, self.charge_touch, approach, self.dart_end, self.span_approach)]
         rows = min(len(self.rows), len(self.texture_rows), len(self.own_steps))
         self.step_table = np.ascontiguousarray(np.hstack([c[:rows] for c in columns]))
         self.bearings = np.array(_bearings(72))     # fit_target's default 5 degree steps

@@ -159,6 +159,7 @@ class Reactor(GenerationStep):
         self._charge_end = -1
         self._shown: tuple[float, float, float] | None = None   # (x, y, t) last shown
         self._lagging = False           # that shown pose behind the way between the steps
+        self._dart_end = -1
         self.started = True
         return self.pose
 
@@ -178,7 +179,7 @@ class Reactor(GenerationStep):
         fs[sk.SINCE] = self._since
         ints = self._is = np.zeros(sk.INT_STATE, dtype=np.int64)
         ints[sk.PATCH_START], ints[sk.PATCH_OFFSET] = self.patch.start, self.patch.offset
-        ints[sk.SOURCE] = ints[sk.CHARGE_END] = -1
+        ints[sk.SOURCE] = ints[sk.CHARGE_END] = ints[sk.DART_END] = -1
         c = self._cs = np.zeros(sk.CONSTANTS)
         c[[sk.X0, sk.Y0, sk.X1, sk.Y1]] = self.table
         c[sk.TARGET_TABLE:sk.TARGET_TABLE + 4] = self.target_table
@@ -206,6 +207,7 @@ class Reactor(GenerationStep):
         c[sk.LARGEST_STEP] = b.largest_step
         c[sk.STRAIGHTNESS] = b.straightness
         c[sk.CIRCLING] = float(b.circling)
+        c[sk.DARTS], c[sk.DART_SPAN] = float(b.darts), float(b.dart_span)
         c[sk.MAIN_DISC] = b.main_disc
         c[[sk.S_SINCE, sk.SINCE_CLIP, sk.TOUCH]] = b.scales.since, b.since_clip, b.live_touch
         span = min(b.stop_span, self._main_recent.maxlen - 1)    # as StepSenses._main_stopped
@@ -227,10 +229,10 @@ class Reactor(GenerationStep):
         self.main_motion = ft.EntityMotion(main_x, main_y, wrap_angle(main_dir), p.rate_hz,
                                            p.min_speed)
         self._main_recent.clear()
-        self._charge_end = -1
+        self._charge_end = self._dart_end = -1
         self._fs[[sk.MAIN_X, sk.MAIN_Y, sk.MAIN_MOVE]] = main_x, main_y, wrap_angle(main_dir)
         self._is[sk.RECENT_COUNT] = self._is[sk.RECENT_HEAD] = 0   # as the deque cleared
-        self._is[sk.CHARGE_END] = -1
+        self._is[sk.CHARGE_END] = self._is[sk.DART_END] = -1
 
     @property
     def coherence_share(self) -> float:
@@ -437,7 +439,8 @@ class Reactor(GenerationStep):
             self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
             self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,
             jc, cost_c)
-        self.last_choice = ("charge" if self._is[sk.KEPT_CHARGE] else
+        self.last_choice = ("dart" if self._is[sk.KEPT_DART] else
+                            "charge" if self._is[sk.KEPT_CHARGE] else
                             "coherence" if self._is[sk.USED_COHERENCE] else "situation")
         self.situation.push(self._xs)
         self.coherence.push(self._xc, target)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.character import FOLLOW_SHARE
+from behaviors.puppet_master.darts import dart_goes_on, less_inward
 from behaviors.puppet_master.generation import (capped, less_approach, mean_capped, share_around,
                                                 step_around, target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
@@ -29,7 +30,7 @@ class GenerationStep(StepDetail):
     def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
         """One generation step at grid time ``g`` (seconds) from the main pose there: the
         reactor's new pose (table metres, radians) as the row (g, x, y, look)."""
-        target = self._best_match()
+        target = self._best_match(mx, my)
         self._main_recent.append((mx, my))      # the main's last positions (still or not)
         sx, sy = self._trajectory(target, mx, my, md)
         sx, sy, heading, texture = self._detail(target, mx, my, sx, sy)
@@ -42,7 +43,7 @@ class GenerationStep(StepDetail):
         self._last_step = (sx, sy)
         return g, rx, ry, look
 
-    def _best_match(self) -> int:
+    def _best_match(self, mx: float, my: float) -> int:
         """BestMatch (section 4.3): the training index to generate from (the sample after
         the best window; sets ``source``, ``last_choice`` and the charge kept whole)."""
         b = self.behavior
@@ -59,6 +60,18 @@ class GenerationStep(StepDetail):
         # entered in its run-up only (demonstrated.charge_entries: joined in its push, a push
         # followed another back to back)
         self._charge_ended = False
+        rx, ry, _ = self.pose
+        mxp, myp = self.main_motion.x, self.main_motion.y
+        if 0 <= self.source < self._dart_end and math.hypot(
+                rx - mxp, ry - myp) > b.distance[self.source] and dart_goes_on(
+                self._main_recent, b.dart_span, b.span_approach[self.source + 1], self.dt, mx,
+                my, rx - mxp, ry - myp):
+            # a dart the match has entered is kept whole to its bottom while the friend is
+            # farther out than its moment (darts.py: why; the figures at _trajectory's dart)
+            self.source = target = self.source + 1
+            self.last_choice = "dart"
+            return target
+        self._dart_end = b.dart_end[target]
         if 0 <= self.source < self._charge_end:
             target = self.source + 1
             self.last_choice = "charge"
@@ -267,6 +280,9 @@ class GenerationStep(StepDetail):
                                            b.main_approach[target], cx, cy)
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
+                if b.darts and self._charge_end < 0:
+                    sx, sy = less_inward(sx, sy, c * dfx - s_ * dfy, s_ * dfx + c * dfy,
+                                         rx - mxp, ry - myp, dist, b.main_disc)
             if self._charge_end >= 0:     # a charge kept whole arrives (step_charge.py)
                 sx, sy = close_on_touch(sx, sy, mx - rx, my - ry, dist,
                                         b.charge_touch[target] - target)

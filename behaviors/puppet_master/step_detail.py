@@ -110,15 +110,8 @@ class StepDetail(StepSenses):
         # 30 / 28, 20 / 19 / 19, 27 / 29 / 32; 5, 31 / 29 / 29, 20 / 21 / 23, 26 / 27 / 31. Not
         # kept (300-311 worse in each, the friend's there 0 / 3 / 1 -> 2 / 3 / 2 to 6 / 8 / 2).
         # That base is a low draw: over nine runs (relative_motion x 1, 1 +- 0.001 to 0.004)
-        # the friend's there 0 / 3 / 1 / 2 / 0 / 2 / 4 / 4 / 4. Ended instead when the live main
-        # came nearer over 0.25 s than the moment's main + 0.2 m/s (the friend alone, summed
-        # over seven runs to +- 0.003): 0-5 / 40-51 / 128-139 11 / 25 / 26 -> 7 / 11 / 17,
-        # 300-311 (nine) 20 -> 21; + 0.1 m/s 6 / 14 / 23, 20; + 0 m/s 300-311 19 over five
-        # (base 6, no end 13), with the span's turn within 0.5 rad of the moment main's 16;
-        # at + 0.2 m/s bench 0-5 677 (7) -> 678 (6), 40-51 / 128-139 engine's 29 / 28 / 27,
-        # 20 / 19 / 19. Not kept: seed 0's fast path contact 0.081 (band top 0.061; 0.051 at
-        # + 0.1 m/s) and the slack live touch reaching its main too (tests/puppet_master
-        # test_pm_contact.py, test_pm_push_rhythm.py).
+        # the friend's there 0 / 3 / 1 / 2 / 0 / 2 / 4 / 4 / 4. Kept: the dart ended when the
+        # live main came nearer over 0.25 s than the moment's main + 0.1 m/s (darts.py).
         # Carrying the main's turn at main-frame places evens the loops' two senses
         # (clockwise 0.010 ->
         # 0.015, counter-clockwise 0.055 -> 0.039-0.044) but lowers the loops mean to

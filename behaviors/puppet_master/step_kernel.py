@@ -20,6 +20,7 @@ any of these must be made here too:
 - look.desired_look
 - features: EntityMotion.step, relative_pose, situation_row, since_step, since_row, room_row,
   coherence_row
+- darts (darts_kernel): dart_goes_on, span_approach, less_inward
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
@@ -37,11 +38,13 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import apart, generation_kernel, step_math, table_boundary
+from behaviors.puppet_master import (apart, darts, darts_kernel, generation_kernel,
+                                     step_math, table_boundary)
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
     keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, no_deeper,
     out_of_way, share_around, step_around, table_reach, turn_between, turn_off_edges)
+from behaviors.puppet_master.darts_kernel import dart_goes_on, less_inward
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -52,8 +55,8 @@ RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EM
 FLOAT_STATE = 24
 # integer state (Reactor._is)
 PATCH_START, PATCH_OFFSET, SMOOTH_I, RECENT_COUNT, RECENT_HEAD, CHOICES, COHERENCE_CHOICES, \
-    SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE = range(11)
-INT_STATE = 11
+    SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE, DART_END, KEPT_DART = range(13)
+INT_STATE = 13
 # constants (Reactor._cs): the table X0, Y0, X1, Y1 (generation_kernel), then
 DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     GOV_TARGET, GOV_MIN_STEP, GOV_GAIN, GOV_DECAY, GOV_Z_MIN, GOV_Z_MAX, \
@@ -71,11 +74,14 @@ S_SINCE, SINCE_CLIP, TOUCH = 51, 52, 53   # the steps since the last push (0: no
 CIRCLING = 54         # Behavior.circling (1.0: the smooth turns with the bearing)
 MAIN_DISC = 55        # Behavior.main_disc (metres; 0: none)
 EDGE_BAND = 56        # Reactor.edge_band (metres)
-CONSTANTS = 57
+DARTS = 57            # Behavior.darts (1.0: its darts kept whole, their inward step held)
+DART_SPAN = 58        # Behavior.dart_span (samples of the main's span read)
+CONSTANTS = 59
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
-    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH = range(22)
+    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH, T_DART_END, \
+    T_SPAN_APPROACH = range(24)
 
 PLACE_WORLD = 1.0
 GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
@@ -181,7 +187,7 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
 
 @compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
                       _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
-          step_math, generation_kernel, table_boundary, apart)
+          step_math, generation_kernel, table_boundary, apart, darts_kernel, darts)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
@@ -194,9 +200,22 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     use_c = choose(fs, ints, c, cost_s, cost_c)
     target = (jc if use_c else js) + 1
     ints[USED_COHERENCE] = 1 if use_c else 0
+    # a dart the match has entered is kept whole to its bottom (darts.py)
+    ints[KEPT_DART] = 0
+    if 0 <= ints[SOURCE] < ints[DART_END] and hypot(
+            fs[RX] - fs[MAIN_X], fs[RY] - fs[MAIN_Y]) > table[ints[SOURCE], T_DISTANCE] \
+            and dart_goes_on(recent, ints[RECENT_COUNT], ints[RECENT_HEAD], int(c[DART_SPAN]),
+                             table[ints[SOURCE] + 1, T_SPAN_APPROACH], c[DT], mx, my,
+                             fs[RX] - fs[MAIN_X], fs[RY] - fs[MAIN_Y]):
+        target = ints[SOURCE] + 1
+        ints[KEPT_DART] = 1
+    else:
+        ints[DART_END] = int(table[target, T_DART_END])
     # a charge the match has entered is kept whole to the end of its push
     ended = False
-    if 0 <= ints[SOURCE] < ints[CHARGE_END]:
+    if ints[KEPT_DART] == 1:
+        ints[KEPT_CHARGE] = 0
+    elif 0 <= ints[SOURCE] < ints[CHARGE_END]:
         target = ints[SOURCE] + 1
         ints[KEPT_CHARGE] = 1
     else:
@@ -272,6 +291,9 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                                        row[T_MAIN_APPROACH], cx, cy)
             sx = (mx - mxp) + cm * dfx - s_ * dfy + cx
             sy = (my - myp) + s_ * dfx + cm * dfy + cy
+            if c[DARTS] != 0.0 and ints[CHARGE_END] < 0:
+                sx, sy = less_inward(sx, sy, cm * dfx - s_ * dfy, s_ * dfx + cm * dfy,
+                                     rx - mxp, ry - myp, dist, c[MAIN_DISC])
         if ints[CHARGE_END] >= 0:
             # a charge kept whole closes the live distance beyond the demonstrated one
             touch = int(row[T_CHARGE_TOUCH])

@@ -8,6 +8,7 @@ and the playful friend's darts touch its main as regularly as its designer's."""
 import numpy as np
 
 from behaviors.puppet_master import designers, features, fidelity, visitors
+from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.character import PUCK_M, TOUCH_M
 from tabletop import examples
 from tests.puppet_master.demos import shipped
@@ -96,26 +97,51 @@ def test_the_playful_friend_touches_its_main_as_regularly_as_its_designer():
     assert np.mean(np.abs(gen_a - own_a)) <= 0.013, (gen, own)
 
 
-def test_the_playful_friends_darts_reach_its_main_beside_a_looping_main(monkeypatch):
+def _mains(paths: tuple[tuple[int, str], ...]) -> list[np.ndarray]:
+    """The unseen main paths named by (seed, path kind)."""
+    out = []
+    for seed, kind in paths:
+        mains = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)
+        out.append(next(m for p, m in mains.items() if p.startswith(kind)))
+    return out
+
+
+def _friend_contact(b: Behavior, mains: list[np.ndarray]) -> list[float]:
+    """Contact share (within TOUCH_M) of the friend generated beside each main."""
+    out = []
+    for main in mains:
+        rows = fidelity.generate(b, main, TABLE)
+        near = np.hypot(*(rows[:, 1:3] - fidelity.main_on_grid(main, rows[:, 0])[:, :2]).T)
+        out.append(float(np.mean(near < TOUCH_M)))
+    return out
+
+
+def test_the_playful_friends_darts_reach_its_main_beside_a_looping_main():
+    # contact on the loops paths where the engine alone once missed it (seeds 0, 4, 41, 42,
+    # 46): 0.029, 0.037, 0.038, 0.023, 0.025 (mean 0.030), its entered darts kept whole
+    # (darts.py); 0.025, 0.043, 0.024, 0.026, 0.034 (mean 0.030) before, its live push then
+    # counted under TOUCH_M 0.019, 0.013, 0.018, 0.020, 0.013, all under the bench's band
+    b = shipped("playful_friend")
+    low = fidelity.demonstration_figures(b)["contact"] - fidelity.EVENT_FLOOR["contact"]
+    darts = _friend_contact(b, _mains(tuple((s, "loops") for s in (0, 4, 41, 42, 46))))
+    assert min(darts) >= low and np.mean(darts) >= 0.028, (darts, low)
+
+
+def test_the_playful_friend_counts_its_live_push_only_where_the_pucks_touch(monkeypatch):
     # its live push counted only where the pucks touch (PUCK_M, Behavior.live_touch): a dart
     # stopping within TOUCH_M's slack no longer restarts the steps since the last push, so
-    # the match takes the next run-up. Contact on the loops paths where the engine alone
-    # missed it (seeds 0, 4, 41, 42, 46): 0.025, 0.043, 0.024, 0.026, 0.034 (mean 0.030);
-    # counted under TOUCH_M 0.019, 0.013, 0.018, 0.020, 0.013, all under the bench's band
+    # the match takes the next run-up. Counted under TOUCH_M, the friend's own misses (its
+    # designer meeting the band) summed over five runs (1, 1 +- 0.001, 1 +- 0.002 x the
+    # demonstration's drift) on seeds 0-5 / 40-51 / 128-139 / 300-311: 13 / 25 / 15 / 14
+    # against 3 / 11 / 15 / 11. On seed 48's loops and 129's fast path its contact falls
+    # under the band (low edge 0.021): 0.036, 0.041 -> 0.016, 0.019 (the loops of seeds 5,
+    # 45, 51: 0.046, 0.039, 0.029 -> 0.018, 0.018, 0.013)
     b = shipped("playful_friend")
     assert b.live_touch == PUCK_M and shipped("bully").live_touch == TOUCH_M
     low = fidelity.demonstration_figures(b)["contact"] - fidelity.EVENT_FLOOR["contact"]
-
-    def contact() -> list[float]:
-        out = []
-        for seed in (0, 4, 41, 42, 46):
-            main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["loops_spins_45hz"]
-            rows = fidelity.generate(b, main, TABLE)
-            near = np.hypot(*(rows[:, 1:3] - fidelity.main_on_grid(main, rows[:, 0])[:, :2]).T)
-            out.append(float(np.mean(near < TOUCH_M)))
-        return out
-    darts = contact()
-    assert min(darts) >= low and np.mean(darts) >= 0.028, (darts, low)
+    mains = _mains(((48, "loops"), (129, "fast")))
+    touch = _friend_contact(b, mains)
+    assert min(touch) >= low, (touch, low)
     monkeypatch.setattr(b, "live_touch", TOUCH_M)
-    slack = contact()
-    assert max(slack) < low and np.mean(slack) < 0.022, (slack, low)
+    slack = _friend_contact(b, mains)
+    assert max(slack) < low, (slack, low)
