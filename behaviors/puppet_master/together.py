@@ -26,9 +26,16 @@ apart once a tick, not after each round of steps (the first of two steps in a fr
 overlapping: the afraid ones 0.903); pairs held by an edge not sliding along it (three, seeds
 48-83: 0.933, two afraid ones in a corner); the main's disc held in the joint pass too (two,
 seeds 12-47: least 1.000 -> 0.750, the shown pose 3.8 steps behind; the bully's least over its
-disc 0.003 -> 0.079). A point's room cut where its push goes deeper into its own main's disc:
-inside two, seeds 120-155, 0.0671 -> 0.0652, three, seeds 12-47, 0.0574 -> 0.0556, but the
-least over the disc there 0.007 -> 0.002 (measured on those two sets only).
+disc 0.003 -> 0.079). A point's room cut where its push goes deeper into its own main's disc,
+its partner taking the rest (seeds 12-47 / 48-83 / 84-119 / 120-155): share inside the disc,
+three 0.0574 / 0.0567 / 0.0586 / 0.0584 -> 0.0556 / 0.0565 / 0.0589 / 0.0589, two 0.0641 /
+0.0627 / 0.0639 / 0.0671 -> 0.0657 / 0.0639 / 0.0670 / 0.0652; least over the disc, three
+0.007 / 0.023 / 0.001 / 0.006 -> 0.002 / 0.006 / 0.000 / 0.004, two 0.003 / 0.014 / 0.009 /
+0.009 -> 0.003 / 0.006 / 0.021 / 0.009; least gap three 0.998 / 0.983 / 0.996 -> 0.989 / 0.996
+/ 0.974 (48-83 / 84-119 / 120-155), two 1.000 -> 0.998 (84-119). The cut given up where the
+pair's cut rooms cannot take the overlap: shares inside within 0.0004 of the cut's (two 0.0658 /
+0.0637 / 0.0670 / 0.0648), least over the disc the same, least gap three 0.991 / 0.989 / 0.996
+/ 0.996, two 1.000 / 0.996 / 0.999 / 1.000.
 """
 
 from __future__ import annotations
