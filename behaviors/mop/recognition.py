@@ -100,8 +100,8 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (backs_first, carried, leapt, rests_behind, stalls,
-                                    still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (PAUSE_SAMPLES, backs_first, carried, leapt, rests_behind,
+                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -167,8 +167,11 @@ class Recognition:
         # 3 samples before, where the action driving then had carried its performer: held-out 102
         # sized .9053 -> .9100, the wave .455 -> .924 as with the 4 samples; 5 samples back, 108's
         # 0.7x walk wrist .568 -> .545)
-        weighed = not unweighed(rest, carried(self._acquired, self._drive_from, self._drive_peak,
-                                              self._drive_moved))
+        carried_on = carried(self._acquired, self._drive_from, self._drive_peak,
+                             self._drive_moved)
+        paused = rest or carried_on and resting(self._recent_x[1 - PAUSE_SAMPLES:] + [x],
+                                                self._still_radius)
+        weighed = not unweighed(paused, carried_on)
         if weighed:
             self._evidence *= self._decay
             self._evidence += raw_ll

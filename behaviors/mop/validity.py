@@ -316,6 +316,10 @@ def unjudged(rests: bool) -> bool:
 #: forward (:func:`carried`), every template's evidence and the threshold model's stay as they were
 #: (:func:`unweighed`; see the module docstring).
 UNWEIGHED_AT_REST = True
+#: ... read as a rest over this many samples too (:func:`tempo.resting`'s halves of two), for
+#: :func:`unweighed` alone: over ``still_samples`` (6) a stop reads as a rest 4-5 samples late,
+#: and meanwhile the action paused paid for the still input (see the module docstring).
+PAUSE_SAMPLES = 4
 
 
 def carried(acquired: int, began: float, peak: float, moved: bool) -> bool:
