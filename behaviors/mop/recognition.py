@@ -100,8 +100,9 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (PAUSE_SAMPLES, backs_first, carried, leapt, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (PAUSE_CARRY, PAUSE_SAMPLES, backs_first, carried, leapt,
+                                    rests_behind, stalls, still_unbegun, unbegun, unjudged,
+                                    unweighed)
 
 
 class Recognition:
@@ -169,8 +170,9 @@ class Recognition:
         # 0.7x walk wrist .568 -> .545)
         carried_on = carried(self._acquired, self._drive_from, self._drive_peak,
                              self._drive_moved)
-        paused = rest or carried_on and resting(self._recent_x[1 - PAUSE_SAMPLES:] + [x],
-                                                self._still_radius)
+        paused = rest or (carried_on and self._drive_peak - self._drive_from >= PAUSE_CARRY
+                          and resting(self._recent_x[1 - PAUSE_SAMPLES:] + [x],
+                                      self._still_radius))
         weighed = not unweighed(paused, carried_on)
         if weighed:
             self._evidence *= self._decay

@@ -320,6 +320,8 @@ UNWEIGHED_AT_REST = True
 #: :func:`unweighed` alone: over ``still_samples`` (6) a stop reads as a rest 4-5 samples late,
 #: and meanwhile the action paused paid for the still input (see the module docstring).
 PAUSE_SAMPLES = 4
+#: ... and only where the action carried its performer this far (progress units) before the stop.
+PAUSE_CARRY = 0.08
 
 
 def carried(acquired: int, began: float, peak: float, moved: bool) -> bool:
