@@ -44,7 +44,8 @@ from behaviors.mop.rivals import BROADER
 from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.spotting import SHARE_BACK
-from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
+from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
+                                    UNWEIGHED_AT_REST)
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
@@ -150,8 +151,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
         rest_out[i] = rest
         # a pause of an action that carried its performer forward (validity.unweighed)
-        paused = (rest and UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
-                  and drive_peak[i] - drive_from[i] >= CARRY_FIRST)
+        paused = (UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
+                  and drive_peak[i] - drive_from[i] >= CARRY_FIRST
+                  and (rest or (drive_peak[i] - drive_from[i] >= PAUSE_CARRY
+                                and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
         turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
         if scaled:
             for c in range(d):

@@ -100,8 +100,9 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.tempo import crawl_run, crawls, resting
-from behaviors.mop.validity import (CARRY_FIRST, backs_first, carried, leapt, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged, unweighed)
+from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, backs_first,
+                                    carried, leapt, rests_behind, stalls, still_unbegun,
+                                    unbegun, unjudged, unweighed)
 
 
 class Recognition:
@@ -154,21 +155,19 @@ class Recognition:
             raw_ll = raw_ll - self.dim * np.log(self._size)
         # none in a pause of an action that carried its performer forward (validity.unweighed;
         # measured and not kept, nor of one taken validity.TAKEN_PERFORMED past where its attempt
-        # began: held-out seeds 108 / 102 sized identical, 0.8906 / 0.8976; nor with the pause read
-        # over the last 4 samples too, tempo.resting's halves of two, the rest over still_samples
-        # read 4-5 samples after a stop while the action paused paid for the still input: a 1.4x
-        # wave paused at 0.39, 8.3 nats ahead of the figure eight at the stop, 1.2 when the rest
-        # was read, held-out 102 valid after 30% 0.35 -> 0.68; follower and group kernel alike,
-        # bench/follow_seeds.py --sections=sized,unrelated,sequences 107-112 sized mean .9036 ->
-        # .9040, 101-106 .9062 -> .9072, every seed equal or up, every other figure equal;
-        # bench/follow_quality.py held-out sized .9112 -> .9118, bent 10% .4725 -> .4734, but
-        # bent 5% .7466 -> .7455, one bent getup wrist .778 -> .733 (not traced). Screened beside
-        # no reversal read at rest (reversal.py), the evidence put back at a rest's onset as it was
-        # 3 samples before, where the action driving then had carried its performer: held-out 102
-        # sized .9053 -> .9100, the wave .455 -> .924 as with the 4 samples; 5 samples back, 108's
-        # 0.7x walk wrist .568 -> .545)
-        weighed = not unweighed(rest, carried(self._acquired, self._drive_from, self._drive_peak,
-                                              self._drive_moved))
+        # began: held-out seeds 108 / 102 sized identical, 0.8906 / 0.8976). The pause is read
+        # over validity.PAUSE_SAMPLES too where the action carried its performer PAUSE_CARRY on
+        # (the figures there). Screened beside no reversal read at rest (reversal.py), the
+        # evidence put back at a rest's onset as it was 3 samples before, where the action
+        # driving then had carried its performer: held-out 102 sized .9053 -> .9100, the 1.4x
+        # wave .455 -> .924 as with the 4 samples; 5 samples back, 108's 0.7x walk wrist .568 ->
+        # .545
+        carried_on = carried(self._acquired, self._drive_from, self._drive_peak,
+                             self._drive_moved)
+        paused = rest or (carried_on and self._drive_peak - self._drive_from >= PAUSE_CARRY
+                          and resting(self._recent_x[1 - PAUSE_SAMPLES:] + [x],
+                                      self._still_radius))
+        weighed = not unweighed(paused, carried_on)
         if weighed:
             self._evidence *= self._decay
             self._evidence += raw_ll

@@ -316,6 +316,20 @@ def unjudged(rests: bool) -> bool:
 #: forward (:func:`carried`), every template's evidence and the threshold model's stay as they were
 #: (:func:`unweighed`; see the module docstring).
 UNWEIGHED_AT_REST = True
+#: ... read as a rest over this many samples too (:func:`tempo.resting`'s halves of two), for
+#: :func:`unweighed` alone: over ``still_samples`` (6) a stop reads as a rest 4-5 samples late,
+#: and meanwhile the action paused paid for the still input (see the module docstring): a 1.4x
+#: wave paused at 0.39, 8.3 nats ahead of the figure eight at the stop, 1.2 when the rest was
+#: read; held-out seed 102 valid after 30% 0.35 -> 0.68.
+PAUSE_SAMPLES = 4
+#: ... where the action carried its performer this far on (progress units; a rest over
+#: ``still_samples`` asks :data:`CARRY_FIRST`): a slow stretch of a bent getup wrist read as a
+#: pause of a punch carried 0.06 froze the evidence the getup gained there (held-out bent 5%
+#: valid after 30% 0.7466 -> 0.7455 with every carried action's pause read early, 0.7466 here).
+#: Measured with both, follower and group kernel alike: bench/follow_seeds.py sized 107-112
+#: mean .9036 -> .9041, 101-106 .9062 -> .9071 (every seed equal or up); bench/follow_quality.py
+#: held-out sized .9112 -> .9118, bent 10% .4725 -> .4730, every other figure equal.
+PAUSE_CARRY = 0.08
 
 
 def carried(acquired: int, began: float, peak: float, moved: bool) -> bool:

@@ -10,6 +10,7 @@ from bench.follow_pauses import driven_over
 from bench.follow_quality import puck_follower, run
 from bench.motions import paused
 from behaviors.mop import validity
+from tests.mop.helpers import held_out_group_valid, held_out_valid
 
 
 def _pauses(gestures: dict[str, np.ndarray]) -> list[tuple[float, float]]:
@@ -95,3 +96,57 @@ def test_a_group_holds_an_action_paused_after_its_take_as_its_followers_alone(ge
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams],
                                                  streams) for x in s)
     assert valid >= plain + 80, (valid, plain)
+
+
+def test_an_action_paused_keeps_its_evidence_from_the_samples_the_rest_test_reads_late():
+    # the wave at 1.4x, paused at 0.39 of it: over six samples the rest was read five samples
+    # after the stop, while the figure eight at 0.82 gained 1.1 nats a sample on the still input
+    # (the wave's lead 8.3 -> 1.2), and lost the pause; measured valid after 30% 0.68 with the
+    # pause read over PAUSE_SAMPLES too, 0.35 before
+    valid = held_out_valid(102, "wave", 1.4)
+    assert valid >= 0.6, valid
+
+
+def test_a_group_reads_the_pause_over_its_last_samples_as_its_follower_alone():
+    # measured: 47 valid samples (34 before)
+    valid = held_out_group_valid(102, "wave", 1.4)
+    assert valid >= 42, valid
+
+
+def _bent_getup(seed: int = 7) -> tuple[dict, np.ndarray, np.ndarray]:
+    """The held-out templates and the getup wrist bent 5% (``bench/follow_shapes.py``'s
+    deformation) at 0.85-1.2x, drawn with ``seed``."""
+    from bench.follow_shapes import reshaped
+    from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates, performance
+    templates = {**gesture_templates(), **mocap_templates(joints=MOCAP_HELD_OUT)}
+    rng = np.random.default_rng(seed)
+    tpl = reshaped(rng, templates["getup_facedown_right_wrist"], 0.05, 1.0)
+    x, prog = performance(rng, tpl, float(rng.uniform(0.85, 1.2)))
+    return templates, x, prog
+
+
+def _bent_getup_valid() -> float:
+    from bench.follow_quality import true_metrics
+    templates, x, prog = _bent_getup()
+    states = run(puck_follower(templates), x)
+    return true_metrics(states, "getup_facedown_right_wrist", prog)["valid_after30"]
+
+
+def test_a_slow_stretch_is_no_early_pause_of_an_action_that_carried_its_performer_little(
+        monkeypatch):
+    # validity.PAUSE_CARRY: the getup wrist slows to a near stop while a wrong action (a punch)
+    # that carried its performer less than PAUSE_CARRY drives; read over PAUSE_SAMPLES, the stop
+    # froze the evidence the getup was gaining there. Measured valid after 30% 0.90, 0.69 with
+    # every carried action's pause read over PAUSE_SAMPLES
+    from behaviors.mop import recognition
+    valid = _bent_getup_valid()
+    monkeypatch.setattr(recognition, "PAUSE_CARRY", 0.0)
+    plain = _bent_getup_valid()
+    assert valid >= 0.85 and plain <= 0.75, (valid, plain)
+
+
+def test_a_group_reads_an_early_pause_where_its_follower_alone_does():
+    # the bent getup above, a group of one follower beside it (validity.PAUSE_CARRY compiled)
+    from tests.mop.helpers import group_beside_alone
+    templates, x, _ = _bent_getup()
+    group_beside_alone(lambda: puck_follower(templates), [x])
