@@ -38,8 +38,8 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import (apart, darts, darts_kernel, generation_kernel,
-                                     step_math, table_boundary)
+from behaviors.puppet_master import (apart, character, darts, darts_kernel,
+                                     generation_kernel, step_math, table_boundary)
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
     keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, no_deeper,
@@ -187,7 +187,8 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
 
 @compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
                       _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
-          step_math, generation_kernel, table_boundary, apart, darts_kernel, darts)
+          step_math, generation_kernel, table_boundary, apart, darts_kernel, darts,
+          character)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
