@@ -311,6 +311,12 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._end_history: list[float] = []   # handover.tempo_ended
         self._lagged = False   # the end was reached by handover.tempo_ended
         self._end_x: np.ndarray | None = None
+        # where the input came nearest the ended template's last point since, and whether it has
+        # not yet gone away from it (shape_lead.TAKE_FROM_NEAREST)
+        self._end_near: np.ndarray | None = None
+        self._end_nearing = False
+        # the anchor less that point, for the next gesture (None: no end before it)
+        self._take_shift: np.ndarray | None = None
         # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
         self._unseen_x: np.ndarray | None = None
         self._unseen_last: np.ndarray | None = None

@@ -114,6 +114,10 @@ class GroupArrays:
         self._ended = np.full(m, -1, dtype=np.intp)
         self._end_x = np.zeros((m, dmax))
         self._end_last = np.zeros((m, dmax))   # the ended template's last point (_moved_on)
+        # where the input came nearest it since, not yet gone away from it, and the next
+        # gesture's anchor less that point (shape_lead.TAKE_FROM_NEAREST; zero: none)
+        self._end_near, self._end_nearing = np.zeros((m, dmax)), np.zeros(m, dtype=bool)
+        self._take_shift = np.zeros((m, dmax))
         self._has_end = np.zeros(m, dtype=bool)
         # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
         self._unseen_x, self._unseen_last = np.zeros((m, dmax)), np.zeros((m, dmax))
@@ -147,7 +151,7 @@ class GroupArrays:
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
                    "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
                    "_lagged", "_blocked", "_blocked_k", "_barred", "_freed", "_unseen_x",
-                   "_unseen_last", "_has_unseen")
+                   "_unseen_last", "_has_unseen", "_end_near", "_end_nearing", "_take_shift")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

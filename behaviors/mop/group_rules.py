@@ -88,6 +88,7 @@ class GroupRules:
                 last = self._end_last[i]
                 if np.sum((self._x[i] - last) ** 2) < np.sum((anchor - last) ** 2):
                     anchor = last
+                shift = anchor - self._end_near[i]   # (shape_lead.TAKE_FROM_NEAREST)
             elif h == members.UNSEEN:
                 anchor = self._unseen_x[i].copy()   # where it was followed to its end
             elif h == members.WAITING:
@@ -128,6 +129,8 @@ class GroupRules:
                 self._abandoned[i], self._came[i] = True, came
                 self._underway[i] = under
             self._anchor[i] = anchor
+            if h == members.AFTER_END:
+                self._take_shift[i] = shift
 
     def _forget_members(self, rows: np.ndarray | int) -> None:
         """Members ``rows`` (bool, indices or one index) forget their own part of the evidence:
@@ -152,6 +155,8 @@ class GroupRules:
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._end_history_n[rows] = 0
         self._lagged[rows] = False
+        self._end_nearing[rows] = False
+        self._take_shift[rows] = 0.0
         self._shape_n[rows] = 0.0
         self._taken_n[rows] = 0
         self._thr_ev[rows] = 0.0

@@ -22,7 +22,7 @@ from behaviors.mop import (halts, handover, overrun, path_kernel, shape_lead, sp
 from behaviors.mop import validity
 from behaviors.mop import tempo as tempo_rules   # (its function tempo is this module's)
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
-from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
+from behaviors.mop.shape_lead import TAKE_FROM_NEAREST, TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
 from behaviors.mop.validity import CARRY_FIRST
 from behaviors.mop.tempo import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
@@ -88,9 +88,9 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
 
 
 @compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,
-                     _F2, numba.float64), *_CALLS_INTO)
+                     _F2, numba.float64, _F2), *_CALLS_INTO)
 def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads, states,
-          ti, mean, tc, mc, floats, limit) -> None:
+          ti, mean, tc, mc, floats, limit, shift) -> None:
     """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
     ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
     them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
@@ -100,7 +100,9 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
     ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
     refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
-    a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
+    a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`). ``shift`` (M, D): each member's
+    anchor less where the input came nearest the ended template's last point, the samples read
+    from there too (:data:`~behaviors.mop.shape_lead.TAKE_FROM_NEAREST`; zero: not).
 
     Compiled here rather than done by the group's Python around its compiled passes (fancy
     indexing over the members and a call through the follower, its Python and a copy of the
@@ -136,6 +138,18 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
         leads[i] = take_fits_at(taken[i, :n, :int(m[0])], states, ti[gb, 2], start, length, g,
                                 tc[gb, 5:], tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11],
                                 m[14], TAKE_SIZES_OUTWARDS, limit)
+        moved = False
+        for c in range(d):
+            moved = moved or shift[i, c] != 0.0
+        if not leads[i] and TAKE_FROM_NEAREST > 0.0 and moved:
+            dm = int(m[0])
+            near = np.empty((n, dm))
+            for r in range(n):
+                for c in range(dm):
+                    near[r, c] = taken[i, r, c] + shift[i, c]
+            leads[i] = take_fits_at(near, states, ti[gb, 2], start, length, g, tc[gb, 5:],
+                                    tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11], m[14],
+                                    TAKE_SIZES_OUTWARDS, TAKE_FROM_NEAREST)
         if leads[i] or TAKE_RESIZE <= 0.0:
             continue
         s = size_of_refused(taken[i, :n, :int(m[0])], states, arc, ti[gb, 2], start, length, g,

@@ -56,7 +56,7 @@ _RAD = len(MEMBER_RULES)
 #: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
 #: (:func:`conclude`, :func:`~behaviors.mop.group_kernel.update_templates`) take them.
 MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came", "_unseen_x",
-                  "_unseen_last")
+                  "_unseen_last", "_end_near", "_take_shift")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
                "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n", "_blocked",
@@ -67,7 +67,7 @@ MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
-                "_underway_rested", "_has_unseen", "_straight")
+                "_underway_rested", "_has_unseen", "_straight", "_end_nearing")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -225,7 +225,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     # tempo's). See member_validity.takes for what this saves
     member_validity.takes(present, m_flags[9], vectors[0], vectors[1], taken, ints[13], ints[0],
                           ints[3], ints[6], m_flags[2], states, ti, mean, tc, mc, floats,
-                          take_limit)
+                          take_limit, vectors[9])
     overran = member_validity.overruns(states, ti, mean, tc, mc, vectors[0], vectors[1], present,
                                        m_flags[10], ints[0], ints[3], ints[14], ints[15],
                                        tempo_x, tempo_g, tempo_s, size, ints[17], m_flags[17],
@@ -243,6 +243,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     highest, drift_run, attempt_from = floats[8], floats[12], floats[14]   # (group_layout.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
+    end_near, nearing = vectors[8], m_flags[18]   # (shape_lead.TAKE_FROM_NEAREST)
     bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]
     acquired, nbuf, lost, after_end = ints[6], ints[7], ints[8], ints[9]
     drive_k, peak_k, restart = ints[10], ints[11], ints[12]
@@ -404,19 +405,27 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                                       + anchor[i, c])
                 if done:
                     nearest(buf, nbuf, i, end_last[i], end_x[i])
+                end_near[i] = end_x[i]
+                nearing[i] = True
                 has_end[i] = True
                 # the performer had already stopped there: the grace counts from where they
                 # stopped (GestureSpotting._arrived)
                 after_end[i] = arrived(buf, nbuf, i, radius)
                 lagged[i] = lag
-            elif was_end and lagged[i]:
-                # ended at its tempo: the end is where the input comes nearest its last point
-                near, held = 0.0, 0.0   # summed apart, as spotting's two sums
+            elif was_end:
+                near, held, nearest2 = 0.0, 0.0, 0.0   # summed apart, as spotting's sums
                 for c in range(d):
                     near += (x[i, c] - end_last[i, c]) ** 2
                     held += (end_x[i, c] - end_last[i, c]) ** 2
-                if near < held:
+                    nearest2 += (end_near[i, c] - end_last[i, c]) ** 2
+                if lagged[i] and near < held:
+                    # ended at its tempo: the end is where the input comes nearest its last point
                     end_x[i] = x[i]
+                # where the input came nearest that point until it first went away from it
+                if nearing[i] and near < nearest2:
+                    end_near[i] = x[i]
+                else:
+                    nearing[i] = False
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
             # the input's step here and its path since the anchor (under_way.underway)
             m_floats[10, i] = m_floats[11, i]

@@ -331,6 +331,11 @@ TAKE_SIZES_OUTWARDS = outwards(TAKE_SIZES)
 #: smaller of :data:`TAKE_SIZES` times the estimate at which the same samples lie nearest its path
 #: ahead, when within this mean square distance (as :data:`TAKE_MISFIT2`; 0: never).
 TAKE_RESIZE = 0.05
+#: After an end, a take refused is read again from where the input came nearest the ended
+#: template's last point (not the anchor, where the end was reached), taken when within this
+#: mean square distance (as :data:`TAKE_MISFIT2`; 0: never; figures:
+#: :mod:`~behaviors.mop.take_fit`).
+TAKE_FROM_NEAREST = 0.1
 
 
 class ShapeLead:
@@ -434,6 +439,12 @@ class ShapeLead:
         if take_fits_at(samples, b.means, 0, start, length, g, b.scale[k], self._first_z[k],
                         float(size), *self.scale_range, self._misfit_decay, norm, sizes,
                         TAKE_MISFIT2):
+            return True
+        shift = self._take_shift
+        if TAKE_FROM_NEAREST > 0 and shift is not None and shift.any() and take_fits_at(
+                samples + shift, b.means, 0, start, length, g, b.scale[k], self._first_z[k],
+                float(size), *self.scale_range, self._misfit_decay, norm, sizes,
+                TAKE_FROM_NEAREST):
             return True
         if TAKE_RESIZE > 0:
             s = size_of_refused(samples, b.means, self._arc, 0, start, length, g, b.scale[k],

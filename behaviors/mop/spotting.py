@@ -320,10 +320,18 @@ class GestureSpotting(GestureEnd):
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
             self._lagged = lagged
-        elif (self._end_x is not None and self._lagged
-              and np.sum((x - self._end_last) ** 2) < np.sum((self._end_x - self._end_last) ** 2)):
-            # ended at its tempo: the end is where the input comes nearest its last point
-            self._end_x = x.copy()
+            self._end_near, self._end_nearing = self._end_x.copy(), True
+        elif self._end_x is not None:
+            near = np.sum((x - self._end_last) ** 2)
+            if self._lagged and near < np.sum((self._end_x - self._end_last) ** 2):
+                # ended at its tempo: the end is where the input comes nearest its last point
+                self._end_x = x.copy()
+            # where the input came nearest that point until it first went away from it
+            # (shape_lead.TAKE_FROM_NEAREST)
+            if self._end_nearing and near < np.sum((self._end_near - self._end_last) ** 2):
+                self._end_near = x.copy()
+            else:
+                self._end_nearing = False
         if (UNSEEN_END and self._end_x is None and self._unseen_x is None and self._drive_k < 0
                 and not valid and not self._refused[bi] and progress >= self.end
                 and len(self._end_history) > 1
@@ -341,9 +349,10 @@ class GestureSpotting(GestureEnd):
                                         self._departed(x, bi, self.accept_distance)):
             # the end was reached and the performer rests there or moves on: a new gesture
             # starts where the last one ended: its template's last point at its size
-            anchor = self._next_anchor(x, bi)
+            anchor, near = self._next_anchor(x, bi), self._end_near
             self._restart_here(x, forward, offset)
             self._anchor = anchor
+            self._take_shift = anchor - near
             self._ended = bi
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)

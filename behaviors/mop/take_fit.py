@@ -21,11 +21,24 @@ for 10 samples before the threshold model refused it. Measured and not kept
 asked again of the action's first 10 / 15 samples while it drives (stopped beyond 0.5 / 0.4):
 0.9147 / 0.9123, mean 0.0232 -> 0.0222 / 0.0216.
 
-What it holds back to back: a held-out jump ankle (seed 103, twenty templates, 0.96x) best from
-0.31 of it, 50-70 nats ahead from 0.6 and from 0.42 leading every template's shape sum 2.7-9
-times over, was never taken: its fast start, followed 0.06 behind at a size estimate of 0.85-0.94,
-left the last samples astray at every one of :data:`~behaviors.mop.shape_lead.TAKE_SIZES`, on
-each of its 51 ticks to its end.
+What it held back to back: a held-out jump ankle (seed 103, twenty templates, 0.96x) best from
+0.31 of it, 50-70 nats ahead from 0.6, was never taken: the follower reached the dance ankle's end
+before it 2.8 mm short of where the performer ended it, and the jump, anchored there, read
+0.2-0.5 sigma^2 off its path at every one of :data:`~behaviors.mop.shape_lead.TAKE_SIZES` on each
+of its 51 ticks (0.02-0.09 read from where it began). So after an end a take refused is read
+again from where the input came nearest the ended template's last point (until it first went
+away from it), and taken within :data:`~behaviors.mop.shape_lead.TAKE_FROM_NEAREST`: the jump at
+0.37 of it, a punch ankle 0.45 -> 0.38. ``bench/follow_seeds.py
+--sections=sized,unrelated,sequences`` (101-106): twenty within 20% or by the reach + 0.05 worst
+0.375 -> 0.406 (105), mean 0.500 -> 0.505, all else unchanged; ``bench/follow_quality.py``: every
+figure unchanged. Measured and not kept: within
+:data:`~behaviors.mop.shape_lead.TAKE_MISFIT2` itself (0.2), a spin wrist drove 0.39 of a circle
+for a tick (0.205 from the anchor, 0.155 from there; held-out longest other wrong run median 0 ->
+0.5); the end itself following the input nearer its last point (the next gesture anchored there,
+and moved on from there; ``bench/follow_quality.py``): held-out twenty within 20% or by the reach
++ 0.05 0.625 -> 0.656, but tuned 0.50 -> 0.469, within 20% 0.406 -> 0.375, longest wrong run
+2 -> 5; only the anchor there (but where the input still comes closer): a run wrist's next gesture
+(``tests/mop/test_spotting.py``, fast ends) recognised 0.31 -> 0.59.
 Measured and not kept: the take's fit waived for an action 20 nats ahead of every other
 (``bench/follow_quality.py --sections=sequences``): only the six gestures' mean past the reach
 moves (0.085 / 0.094 -> 0.079 / 0.088, tuned / held-out); no within-20% share.
