@@ -158,26 +158,29 @@ def update_together(reactors: Sequence[Reactor], t: float,
         for r, m, f, p, q in zip(reactors, mains, fresh, starts, planned):
             if f and p != q:
                 r.start(t, *m, at=(p[0], p[1]))
+    # the obstacles as rows once a tick per reactor, for its steps and display (as update)
+    rows = [r._obstacle_array() if r.compiled else None for r in reactors]
     going = [True] * n
-    while any(going):      # the reactors' k-th steps of this tick, then their ends apart
-        moved = []
-        for i, r in enumerate(reactors):
-            if going[i]:
-                if r.compiled:
-                    r._obstacle_rows = r._obstacle_array()
-                try:
+    try:
+        for r, k in zip(reactors, rows):
+            r._obstacle_rows = k
+        while any(going):      # the reactors' k-th steps of this tick, then their ends apart
+            moved = []
+            for i in range(n):
+                if going[i]:
                     going[i] = next(steps[i], None) is not None
-                finally:
-                    r._obstacle_rows = None
-            moved.append(going[i])
-        if any(moved):
-            ends = [list(r.pose[:2]) for r in reactors]
-            planned = [e[:] for e in ends]
-            apart_together(ends, least, [math.inf if m else 0.0 for m in moved], table)
-            for r, e, p in zip(reactors, ends, planned):
-                if (e[0], e[1]) != (p[0], p[1]):
-                    r.shift(e[0] - p[0], e[1] - p[1])
-    shown = [list(r.shown_at(t)) for r in reactors]
+                moved.append(going[i])
+            if any(moved):
+                ends = [list(r.pose[:2]) for r in reactors]
+                planned = [e[:] for e in ends]
+                apart_together(ends, least, [math.inf if m else 0.0 for m in moved], table)
+                for r, e, p in zip(reactors, ends, planned):
+                    if (e[0], e[1]) != (p[0], p[1]):
+                        r.shift(e[0] - p[0], e[1] - p[1])
+    finally:
+        for r in reactors:
+            r._obstacle_rows = None
+    shown = [list(r.shown_at(t, k)) for r, k in zip(reactors, rows)]
     room = []
     for r, p, s in zip(reactors, before, shown):
         if p is None:
