@@ -315,7 +315,10 @@ def situation_vectors(f: PairFeatures, s: Scales, room_m: np.ndarray | None = No
     For the chased afraid character, the main's step towards the reactor as one more column
     and the reactor speed's and the still state's weights: chased.py (none kept).
     The reactor's signed tangential speed round its main (the sense of its circling), or its
-    velocity in the main's frame instead of its speed: figures in similarity.py. Not used."""
+    velocity in the main's frame instead of its speed: figures in similarity.py. Not used. Nor
+    for the stalker's orbit beside a turning main (its loops main walks faster than the shown
+    one turned, so the velocities pick straight walks): the velocity and position weights, the
+    main's delta direction, the reactor's angular rate round its main (similarity.py)."""
     cols = [s.v_main * f.v_main, s.v_react * f.v_react,
             s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
             s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)]

@@ -87,6 +87,38 @@ whenever the live main stands: flips 1.09, orbit 0.160 (walking 0.368 -> 0.384),
 misses (the engine's) go 3 -> 6: the figure sits under its band once the walking part (0.368,
 shown 0.545) is no longer lifted by the standing one; over three runs (relative_motion x 1,
 1 +- 0.001) the engine's alone 1 / 27 / 20 against 5 / 16 / 13.
+
+The stalker's orbit beside a turning main (loops and slow paths of seeds 40-51 and 128-139,
+Python step; steps whose main walks over 0.05 m/s and turns its walking direction over 0.5
+rad/s in 0.5 s, within 0.6 m). On the loops the matched moments orbit their main at 0.647-0.678
+rad/s (1 s, absolute), as the demonstration's own turning moments (0.678), but along the live
+main's turn only 0.386-0.398 (the live reactor 0.509-0.521): their demonstrated mains turned
+the other way on 58-59% of the steps (the features, in the main's frame, do not tell a left
+turn from a right one; shown, the orbit goes with the main's turn on 59% of its turning
+samples). The best window among moments orbiting at 0.6 rad/s or more costs 1.01-1.02 x the
+best (median; slow paths 1.16-1.18) and loses on the velocities (main 73-79 against 62-66 of
+about 165, reactor 35 against 29) and the still state, not on the relative position: the live
+loops main walks at 0.229 m/s where it turns over 1.5 rad/s, the demonstrated main at 0.104
+there and 0.142 in its straight walks, so the velocity picks the straight walks. Re-weighed for
+the stalker alone (misses (the engine's) on seeds 0-5 / 40-51 / 128-139 against 5 (2) / 29 (14)
+/ 12 (6), at relative_motion x 1 +- 0.001 5 (2) / 29 (14) / 11 (5) and 6 (2) / 27 (13) / 12
+(7); orbit slow / fast / loops 0.551 / 0.611 / 0.594 rad/s, its designer 0.576 / 0.728 / 0.682,
+shown 0.633): Params.w_velocity 0.7 15 (7) / 27 (14) / 16 (7), 0.553 / 0.626 / 0.628; 0.5 13
+(4) / 34 (17) / 22 (10), 0.555 / 0.638 / 0.654; the main's velocity alone x 0.7 9 (5) / 24 (12)
+/ 12 (5), 0.541 / 0.617 / 0.604; x 0.5 11 (6) / 33 (16) / 18 (10); the main's speed compared as
+itself up to the shown main's 90th percentile walk (0.22 m/s) and as that above it 7 (3) / 27
+(12) / 18 (9), 0.556 / 0.628 / 0.609; above the median walk (0.12 m/s) at half its excess 11
+(5) / 28 (13) / 16 (7), 0.548 / 0.640 / 0.618; Params.w_rel_position 1.25 11 (4) / 34 (19) / 18
+(8), 0.555 / 0.628 / 0.617; 1.5 12 (3) / 28 (14) / 22 (13), 0.564 / 0.646 / 0.637; with the
+still state x 1.5 10 (5) / 30 (16) / 15 (8), 0.563 / 0.648 / 0.623; Params.ratio 2 / 0.5 8 (4)
+/ 26 (13) / 16 (10), 8 (4) / 32 (18) / 18 (11) (loops 0.594 / 0.589). As more columns (weight
+over their spread): the main's delta direction (cos, sin) in the coherence vectors 6 (2) / 27
+(13) / 14 (8), loops 0.599; in the situation vectors 12 (5) / 25 (11) / 14 (9), 0.565 / 0.616 /
+0.595; the reactor's own angular rate round its main (per step, within 4 rad/s) in the
+situation vectors 9 (5) / 28 (13) / 11 (5), 0.554 / 0.609 / 0.588; its 0.25 s mean 9 (4) / 30
+(14) / 14 (8), at 0.5 8 (4) / 30 (14) / 14 (7), in the coherence vectors 7 (3) / 31 (13) / 14
+(9) (loops 0.585-0.591). Every weighting that lifts the orbit takes moments whose main walked
+slower, and the still/moving, speed and contact misses rise with it. None kept.
 """
 
 from __future__ import annotations
