@@ -104,6 +104,7 @@ class Renderer:
         self._see_through = see_through.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
+        self._drawn_chars: list[tuple[pygame.Rect, CharacterState]] = []   # (drawn px, state)
         self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
@@ -166,7 +167,7 @@ class Renderer:
         # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
         # words (its REC seconds and TRY keys were under the panel; the studio's dirty
         # rectangle, the whole window for its recording frame, would hide in every corner)
-        self._keep_clear, self._studio_marks = [], []
+        self._keep_clear, self._studio_marks, self._drawn_chars = [], [], []
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
         for p, place in zip(prs, self._places(prs, frame).tolist()):
@@ -174,6 +175,7 @@ class Renderer:
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
+                self._drawn_chars.append((r, p.state))
         shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
         # what went under a puck stays under it: its top (the marker, the hand) is not lit
         pucks.under_pucks(target, bg, shown, beyond, self.map, self.puck_radius,
@@ -435,7 +437,7 @@ class Renderer:
         img = self._overlay_img
         holes = [c for c, weight in under(self._corner) if weight == 1]
         if holes and reading.right == (1, 0):   # (its lines end on the right)
-            width = panel_room.narrow_width(place, avoid, W)
+            width = panel_room.narrow_width(place, avoid, W, self._drawn_chars, self.map)
             if width is not None:
                 narrow = self._narrow(lines, width, cap, self._overlay_px, sizes, keep)
                 at = panel_room.narrow_place(place, narrow.get_size(), (W, H), avoid, must)
