@@ -437,10 +437,11 @@ class Renderer:
         img = self._overlay_img
         holes = [c for c, weight in under(self._corner) if weight == 1]
         if holes and reading.right == (1, 0):   # (its lines end on the right)
-            width = panel_room.narrow_width(place, avoid, W, self._drawn_chars, self.map)
+            bodies = panel_room.bodies(avoid, self._drawn_chars, self.map)
+            width = panel_room.narrow_width(place, bodies, W)
             if width is not None:
                 narrow = self._narrow(lines, width, cap, self._overlay_px, sizes, keep)
-                at = panel_room.narrow_place(place, narrow.get_size(), (W, H), avoid, must)
+                at = panel_room.narrow_place(place, narrow.get_size(), (W, H), bodies, must)
                 if at is not None:
                     img, place = narrow, at
                     self.panel, holes = place, panel_room.clips(place, avoid)

@@ -26,9 +26,10 @@ def bodies(avoid: Sequence[pygame.Rect], drawn: Sequence[tuple[pygame.Rect, Char
            table: TableToScreen) -> list[pygame.Rect]:
     """``avoid`` with each character's drawn rectangle (``drawn``: its glow's bounds, with its
     state) cut to its body (:func:`characters.bodies`): the lines wrap to end before the body,
-    over the glow's rim. A reactor 0.2 m long at 1280x720: glow 309 px wide, body 189 px; cut
-    to the glow, the panel was not narrowed (under NARROW_MIN) and, in the MOP example, its
-    p99 figures ran over a humanoid's feet."""
+    over the glow's rim, and the narrower panel is taken where it hides less of the bodies. A
+    reactor 0.2 m long at 1280x720: glow 309 px wide, body 189 px; judged on the glows, the
+    panel was not narrowed (under NARROW_MIN, or taller over a glow below it) and, in the MOP
+    example, its p99 figures ran over a humanoid's feet."""
     body = {id(r): characters.bodies([c], table) for r, c in drawn}
     out = []
     for r in avoid:
@@ -37,14 +38,9 @@ def bodies(avoid: Sequence[pygame.Rect], drawn: Sequence[tuple[pygame.Rect, Char
     return out
 
 
-def narrow_width(place: pygame.Rect, avoid: Sequence[pygame.Rect], window_w: int,
-                 drawn: Sequence[tuple[pygame.Rect, CharacterState]] = (),
-                 table: TableToScreen | None = None) -> int | None:
+def narrow_width(place: pygame.Rect, avoid: Sequence[pygame.Rect], window_w: int) -> int | None:
     """The width (px) a panel at ``place`` wraps to so that it ends before everything of
-    ``avoid`` under it (a character of ``drawn``: its body, :func:`bodies`), or None when that
-    leaves less than NARROW_MIN or it is no narrower."""
-    if drawn and table is not None:
-        avoid = bodies(avoid, drawn, table)
+    ``avoid`` under it, or None when that leaves less than NARROW_MIN or it is no narrower."""
     left = place.x <= window_w - place.right
     ends = [r.left - place.x if left else place.right - r.right
             for r in avoid if place.colliderect(r)]
