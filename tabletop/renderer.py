@@ -437,7 +437,7 @@ class Renderer:
         img = self._overlay_img
         holes = [c for c, weight in under(self._corner) if weight == 1]
         if holes and reading.right == (1, 0):   # (its lines end on the right)
-            bodies = panel_room.bodies(avoid, self._drawn_chars, self.map)
+            bodies = panel_room.bodies(avoid, self._drawn_chars, self.map, place, H)
             width = panel_room.narrow_width(place, bodies, W)
             if width is not None:
                 narrow = self._narrow(lines, width, cap, self._overlay_px, sizes, keep)

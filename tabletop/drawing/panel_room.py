@@ -23,17 +23,19 @@ def clips(place: pygame.Rect, rects: Sequence[pygame.Rect]) -> list[pygame.Rect]
 
 
 def bodies(avoid: Sequence[pygame.Rect], drawn: Sequence[tuple[pygame.Rect, CharacterState]],
-           table: TableToScreen) -> list[pygame.Rect]:
+           table: TableToScreen, place: pygame.Rect, window_h: int) -> list[pygame.Rect]:
     """``avoid`` with each character's drawn rectangle (``drawn``: its glow's bounds, with its
-    state) cut to its body (:func:`characters.bodies`): the lines wrap to end before the body,
-    over the glow's rim, and the narrower panel is taken where it hides less of the bodies. A
-    reactor 0.2 m long at 1280x720: glow 309 px wide, body 189 px; judged on the glows, the
-    panel was not narrowed (under NARROW_MIN, or taller over a glow below it) and, in the MOP
-    example, its p99 figures ran over a humanoid's feet."""
-    body = {id(r): characters.bodies([c], table) for r, c in drawn}
+    state) in the column of the panel at ``place`` (window pixels, ``window_h`` high) cut to its
+    body (:func:`characters.bodies`): the lines wrap to end before the body, over the glow's
+    rim, and the narrower panel is taken where it hides less of the bodies. A reactor 0.2 m long at 1280x720: glow 309 px wide, body 189 px; judged
+    on the glows, the panel was not narrowed (under NARROW_MIN, or taller over a glow below it)
+    and, in the MOP example, its p99 figures ran over a humanoid's feet."""
+    states = {id(r): c for r, c in drawn}
+    column = pygame.Rect(place.x, 0, place.w, window_h)   # where a narrower panel stands
     out = []
     for r in avoid:
-        b = body.get(id(r))
+        c = states.get(id(r))
+        b = characters.bodies([c], table) if c is not None and column.colliderect(r) else []
         out.append((r.clip(b[0]) or r) if b else r)
     return out
 
