@@ -27,9 +27,10 @@ def bodies(avoid: Sequence[pygame.Rect], drawn: Sequence[tuple[pygame.Rect, Char
     """``avoid`` with each character's drawn rectangle (``drawn``: its glow's bounds, with its
     state) in the column of the panel at ``place`` (window pixels, ``window_h`` high) cut to its
     body (:func:`characters.bodies`): the lines wrap to end before the body, over the glow's
-    rim, and the narrower panel is taken where it hides less of the bodies. A reactor 0.2 m long at 1280x720: glow 309 px wide, body 189 px; judged
-    on the glows, the panel was not narrowed (under NARROW_MIN, or taller over a glow below it)
-    and, in the MOP example, its p99 figures ran over a humanoid's feet."""
+    rim, and the narrower panel is taken where it hides less of the bodies. A reactor 0.2 m
+    long at 1280x720: glow 309 px wide, body 189 px; judged on the glows, the panel was not
+    narrowed (under NARROW_MIN, or taller over a glow below it) and, in the MOP example, its
+    p99 figures ran over a humanoid's feet."""
     states = {id(r): c for r, c in drawn}
     column = pygame.Rect(place.x, 0, place.w, window_h)   # where a narrower panel stands
     out = []
