@@ -360,9 +360,10 @@ class Renderer:
                      must: Sequence[pygame.Rect] | None = None,
                      keep: bool = True) -> pygame.Rect:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
-        would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
-        pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
-        the status line saying the disk is full stayed there, other corners having characters).
+        would hide what is drawn in ``avoid``, of a character its body (:func:`panel_room.bodies`),
+        and another corner hides at most half as much; a pixel of ``must``, the studio's words,
+        counts as ``MUST_WEIGHT`` of them: a panel over the status line saying the disk is full
+        stayed there, other corners having characters).
         Where every window corner is over the studio's words, the panel stands in the corner of
         the rows they leave free (in its column), its lines fitted to the tallest such rows: it
         never lies over them when a place clear of them exists (:data:`OVER_WORDS`);
@@ -417,7 +418,8 @@ class Renderer:
             got = over.get(i)
             if got is None:
                 r = pygame.Rect(corners[i], (w, h))
-                got = over[i] = [(c, weight) for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
+                near = panel_room.bodies(avoid, self._drawn_chars, self.map, r, H)
+                got = over[i] = [(c, weight) for rects, weight in ((near, 1), (must, MUST_WEIGHT))
                                  for c in panel_room.clips(r, rects)]
             return got
 
@@ -435,7 +437,7 @@ class Renderer:
         place = pygame.Rect(corners[self._corner], (w, h))
         self.panel = place
         img = self._overlay_img
-        holes = [c for c, weight in under(self._corner) if weight == 1]
+        holes = panel_room.clips(place, avoid)
         if holes and reading.right == (1, 0):   # (its lines end on the right)
             bodies = panel_room.bodies(avoid, self._drawn_chars, self.map, place, H)
             width = panel_room.narrow_width(place, bodies, W)

@@ -444,3 +444,24 @@ def test_the_panel_wraps_to_end_before_a_characters_body_not_its_glow(below):
     hidden = sum(r.panel.clip(b).w * r.panel.clip(b).h
                  for b in characters.bodies([near, *others], r.map))
     assert hidden <= (3402 if below else 0), hidden
+
+
+def test_the_panel_stays_over_a_glows_rim_rather_than_move_over_a_body():
+    """The panel's corner is chosen by the bodies it hides, not the glows' bounds: a large
+    character's glow reaching under the top-left panel (101 x 188 px) sent it to the top-right
+    corner, over a small character's body (its glow 97 x 97 px); it stays top-left, over no
+    body."""
+    from tabletop.drawing import characters
+    from tabletop.renderer import Renderer
+    r = Renderer((1.2, 0.8), (1280, 720), margin=24)
+    target = pygame.Surface((1280, 720))
+    lines = ["tick 814   running 13.6 s", "60.0 fps   skipped 11   errors 0",
+             *[f"  stage{i}\t{0.5:6.2f} ms median\t{13.5:6.2f} ms p99" for i in range(8)]]
+    chars = (CharacterState("large", 0.39, 0.65, 0.0, size=0.35, color=(240, 110, 150)),
+             CharacterState("small", 1.148, 0.71, 0.0, size=0.06, color=(240, 110, 150)),
+             CharacterState("c0", 0.16, 0.18, 0.0, size=0.2, color=(240, 110, 150)),
+             CharacterState("c1", 1.02, 0.18, 0.0, size=0.2, color=(240, 110, 150)))
+    for k in range(31):
+        r.draw(target, Frame(seq=k, t=k / 20, characters=chars), lines if k == 30 else None)
+    assert r.panel.topleft == (8, 8), r.panel
+    assert r.panel.collidelist(characters.bodies(chars, r.map)) == -1
