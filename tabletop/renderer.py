@@ -104,6 +104,7 @@ class Renderer:
         self._see_through = see_through.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
+        self._drawn_chars: list[tuple[pygame.Rect, CharacterState]] = []   # (drawn px, state)
         self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
@@ -166,7 +167,7 @@ class Renderer:
         # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
         # words (its REC seconds and TRY keys were under the panel; the studio's dirty
         # rectangle, the whole window for its recording frame, would hide in every corner)
-        self._keep_clear, self._studio_marks = [], []
+        self._keep_clear, self._studio_marks, self._drawn_chars = [], [], []
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
         for p, place in zip(prs, self._places(prs, frame).tolist()):
@@ -174,6 +175,7 @@ class Renderer:
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
+                self._drawn_chars.append((r, p.state))
         shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
         # what went under a puck stays under it: its top (the marker, the hand) is not lit
         pucks.under_pucks(target, bg, shown, beyond, self.map, self.puck_radius,
@@ -358,9 +360,10 @@ class Renderer:
                      must: Sequence[pygame.Rect] | None = None,
                      keep: bool = True) -> pygame.Rect:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
-        would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
-        pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
-        the status line saying the disk is full stayed there, other corners having characters).
+        would hide what is drawn in ``avoid``, of a character its body (:func:`panel_room.bodies`),
+        and another corner hides at most half as much; a pixel of ``must``, the studio's words,
+        counts as ``MUST_WEIGHT`` of them: a panel over the status line saying the disk is full
+        stayed there, other corners having characters).
         Where every window corner is over the studio's words, the panel stands in the corner of
         the rows they leave free (in its column), its lines fitted to the tallest such rows: it
         never lies over them when a place clear of them exists (:data:`OVER_WORDS`);
@@ -415,7 +418,8 @@ class Renderer:
             got = over.get(i)
             if got is None:
                 r = pygame.Rect(corners[i], (w, h))
-                got = over[i] = [(c, weight) for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
+                near = panel_room.bodies(avoid, self._drawn_chars, self.map, r, H)
+                got = over[i] = [(c, weight) for rects, weight in ((near, 1), (must, MUST_WEIGHT))
                                  for c in panel_room.clips(r, rects)]
             return got
 
@@ -433,12 +437,13 @@ class Renderer:
         place = pygame.Rect(corners[self._corner], (w, h))
         self.panel = place
         img = self._overlay_img
-        holes = [c for c, weight in under(self._corner) if weight == 1]
+        holes = panel_room.clips(place, avoid)
         if holes and reading.right == (1, 0):   # (its lines end on the right)
-            width = panel_room.narrow_width(place, avoid, W)
+            bodies = panel_room.bodies(avoid, self._drawn_chars, self.map, place, H)
+            width = panel_room.narrow_width(place, bodies, W)
             if width is not None:
                 narrow = self._narrow(lines, width, cap, self._overlay_px, sizes, keep)
-                at = panel_room.narrow_place(place, narrow.get_size(), (W, H), avoid, must)
+                at = panel_room.narrow_place(place, narrow.get_size(), (W, H), bodies, must)
                 if at is not None:
                     img, place = narrow, at
                     self.panel, holes = place, panel_room.clips(place, avoid)
