@@ -255,6 +255,17 @@ class GestureSpotting(GestureEnd):
         # 0.087 -> 0.090 / 0.081, held-out longest wrong run 4 -> 6; 4 and 15 samples (0.2, 0.3,
         # 0.3, 0.2, 0.05 back) within 20% 0.344 / 0.344 and 0.375 / 0.344: sooner on the mean,
         # but rivals catch up as fast and fewer gestures are recognised within 20%.
+        # An attempt begun after an end once the next gesture was 0.05 or more under way was
+        # recognised within 20% on none of 11 (twenty templates, tuned and held-out 101-103). Not
+        # kept either (same bench, per seed, tuned / held-out): every template's followed state
+        # at such a restart seeded at the state of its first window nearest the input (at its
+        # size, from the anchor; the input 4 still radii RMS or more from it; the state within
+        # 2 radii and below 0.15 of the template): twenty within 20% 0.406 / 0.375 unchanged,
+        # held-out 101-106 mean 0.281 -> 0.286 (102 and 106 up one gesture, 104 down one), but
+        # tuned by the reach + 0.05 0.281 -> 0.219 (a walk ankle seeded at 0.081 of it, best on
+        # a jump wrist's start: recognised 0.081 -> 0.118); waiting at the end of each
+        # template's first run of states within a still radius at a still input: six gestures
+        # sooner by 0.01-0.02 (no share moved), twenty 0.406 / 0.375 -> 0.375 / 0.344.
         forward.reset_templates(offset + np.arange(len(self.names)))
         entries = self._entries.copy()
         lead = self._threshold_lead()
