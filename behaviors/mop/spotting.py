@@ -255,6 +255,17 @@ class GestureSpotting(GestureEnd):
         # 0.087 -> 0.090 / 0.081, held-out longest wrong run 4 -> 6; 4 and 15 samples (0.2, 0.3,
         # 0.3, 0.2, 0.05 back) within 20% 0.344 / 0.344 and 0.375 / 0.344: sooner on the mean,
         # but rivals catch up as fast and fewer gestures are recognised within 20%.
+        # An attempt begun after an end once the next gesture was 0.05 or more under way was
+        # recognised within 20% on none of 11 (twenty templates, tuned and held-out 101-103). Not
+        # kept either (same bench, per seed, tuned / held-out): every template's followed state
+        # at such a restart seeded at the state of its first window nearest the input (at its
+        # size, from the anchor; the input 4 still radii RMS or more from it; the state within
+        # 2 radii and below 0.15 of the template): twenty within 20% 0.406 / 0.375 unchanged,
+        # held-out 101-106 mean 0.281 -> 0.286 (102 and 106 up one gesture, 104 down one), but
+        # tuned by the reach + 0.05 0.281 -> 0.219 (a walk ankle seeded at 0.081 of it, best on
+        # a jump wrist's start: recognised 0.081 -> 0.118); waiting at the end of each
+        # template's first run of states within a still radius at a still input: six gestures
+        # sooner by 0.01-0.02 (no share moved), twenty 0.406 / 0.375 -> 0.375 / 0.344.
         forward.reset_templates(offset + np.arange(len(self.names)))
         entries = self._entries.copy()
         lead = self._threshold_lead()
@@ -348,7 +359,11 @@ class GestureSpotting(GestureEnd):
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
                                         self._departed(x, bi, self.accept_distance)):
             # the end was reached and the performer rests there or moves on: a new gesture
-            # starts where the last one ended: its template's last point at its size
+            # starts where the last one ended: its template's last point at its size. (Back to
+            # back the end is mostly reached 1-6 samples before the next gesture begins and this
+            # comes 2-10 samples into its eased start. Measured and not kept: the departure at
+            # 0.6 of accept_distance, bench/follow_quality.py --sections=sequences, tuned and
+            # held-out 101-103: no within-20% share moved, a tuned figure eight 0.284 -> 0.428.)
             anchor, near = self._next_anchor(x, bi), self._end_near
             self._restart_here(x, forward, offset)
             self._anchor = anchor

@@ -43,6 +43,13 @@ Measured and not kept: the take's fit waived for an action 20 nats ahead of ever
 (``bench/follow_quality.py --sections=sequences``): only the six gestures' mean past the reach
 moves (0.085 / 0.094 -> 0.079 / 0.088, tuned / held-out); no within-20% share.
 
+What it holds back to back now (the true template's take asked at each tick from 0.2 of a
+gesture to its recognition, gestures recognised after 20%; tuned and held-out 101-103, six and
+twenty templates): refused on 21 of 1353 ticks, never on the tick before recognition. So neither
+a limit that grows for few samples nor a take after an onset read from where the input began
+moving (as :data:`~behaviors.mop.shape_lead.TAKE_FROM_NEAREST` after an end) has a gesture to
+free there: the lead, the commitment's fit, coverage and the confirmation hold them.
+
 Measured with :func:`~behaviors.mop.validity.unbegun` as it is, none kept (tuned joints, seeds
 201-210 and 300-309, unrelated motions through the follower; true ones: the sized gestures of seeds
 201-202, 201-203 while driving). Read mirrored: at every take the last samples' least misfit over
