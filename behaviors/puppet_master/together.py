@@ -35,7 +35,17 @@ three 0.0574 / 0.0567 / 0.0586 / 0.0584 -> 0.0556 / 0.0565 / 0.0589 / 0.0589, tw
 / 0.974 (48-83 / 84-119 / 120-155), two 1.000 -> 0.998 (84-119). The cut given up where the
 pair's cut rooms cannot take the overlap: shares inside within 0.0004 of the cut's (two 0.0658 /
 0.0637 / 0.0670 / 0.0648), least over the disc the same, least gap three 0.991 / 0.989 / 0.996
-/ 0.996, two 1.000 / 0.996 / 0.999 / 1.000.
+/ 0.996, two 1.000 / 0.996 / 0.999 / 1.000. A point on or in its main's disc pushed toward the
+main sliding along the disc's tangent instead (or along an edge holding it, whichever way the
+disc and the edges leave gains most of the push), cut at the disc's edge from outside, both
+given up where the pair cannot take the overlap: pushes taking an end deeper into its disc
+(seeds 12-23, five characters) two 377 -> 23, three 889 -> 29, but these are at most 0.0028 /
+0.0043 of the reactor frames, and the share inside stays within the noise (each body's half
+0.5 -> 0.5001 or 0.4999, which means nothing, moves a set's share by up to 0.0016): two 0.0636
+/ 0.0616 / 0.0627 / 0.0664 -> 0.0636 / 0.0620 / 0.0644 / 0.0639, three 0.0566 / 0.0560 /
+0.0582 / 0.0575 -> 0.0568 / 0.0564 / 0.0578 / 0.0580 (12-47 / 48-83 / 84-119 / 120-155); the
+least over the disc (one frame) swings 0.000 - 0.016 under those null changes, and with three
+it is the playful friend's own darts (0.000 - 0.008 with or without).
 """
 
 from __future__ import annotations
