@@ -39,7 +39,7 @@ runs on seeds 0-5 / 40-51 / 128-139, against 20 / 35 / 27: 15 / 35 / 24, its fas
 28 -> 6 (mean 0.132 -> 0.148-0.165, shown 0.157) and orbit 21 -> 12, but loops and slow contact
 over (4 -> 13; loops 0.150-0.156 -> 0.167-0.174) and its still/moving ratio lower (0.90-1.04 ->
 0.84-0.97; misses 29 -> 42); half of it 19 / 35 / 27; only while farther than the moment 11 / 40
-/ 27. Not kept.
+/ 27; only while the live main walks away at 0.25 m/s or more 22 / 28 / 30. Not kept.
 
 Where a charge goes round its main. Within 0.1 m the bully goes round it at 0.74-0.93 rad/s (slow
 paths of seeds 41, 134, 135, 302, 306; its designer 0.20-0.35), in charges, from the drift
