@@ -31,7 +31,15 @@ Raising that cap in a charge by the live main's step away from the reactor meets
 (14 -> 1-5 low) but overshoots the slow and loops paths and orbits: bully misses 67 -> 106
 (contact 34, orbit 43); at most the top speed 80 (18, 37), with the main's disc 60 (contact 3
 under on the fast paths, 13 over on both others); only while farther than the moment 73; the
-main's step away added after the cap 115 (orbit 62). None kept.
+main's step away added after the cap 115 (orbit 62). None kept. Its fast contact misses recur
+on the same paths (seeds 43, 44 fast in each of seven runs, relative_motion x 1, 1 +- 0.001 to
+0.003). That cap raised only by the live main's step away beyond the moment's main's (none where
+the moment's main came nearer), Python step, the bully's misses (the engine's) over those seven
+runs on seeds 0-5 / 40-51 / 128-139, against 20 / 35 / 27: 15 / 35 / 24, its fast contact misses
+28 -> 6 (mean 0.132 -> 0.148-0.165, shown 0.157) and orbit 21 -> 12, but loops and slow contact
+over (4 -> 13; loops 0.150-0.156 -> 0.167-0.174) and its still/moving ratio lower (0.90-1.04 ->
+0.84-0.97; misses 29 -> 42); half of it 19 / 35 / 27; only while farther than the moment 11 / 40
+/ 27; only while the live main walks away at 0.25 m/s or more 22 / 28 / 30. Not kept.
 
 Where a charge goes round its main. Within 0.1 m the bully goes round it at 0.74-0.93 rad/s (slow
 paths of seeds 41, 134, 135, 302, 306; its designer 0.20-0.35), in charges, from the drift

@@ -122,6 +122,16 @@ class StepDetail(StepSenses):
         # 3-5.5 cm ahead of the main that came back at it, while its raw steps close faster than
         # the moment's (10.9-13.4 against 9.5-10.2 mm a step): the main passes it beside; its
         # match holds those moments 5.1-7.2 steps (9.9-15.1 shown), 61-64% left by a jump
+        # Its slow-path contact missed in every run (seeds 40, 44: 0.000 against its designer's
+        # 0.018 / 0.006): on 40 the match takes a pass of 0.135 m; on 44 it enters a demonstrated
+        # touch at a world place 8 cm out (0.309 m live, 0.233 moment) and, at the moment's pace,
+        # stays 6 cm out. Its misses (the engine's), stalker alone, Python step, relative_motion
+        # x 1, 1 +- 0.001 summed, seeds 0-5 / 40-51 / 128-139, against 6 / 41 / 18: a world
+        # place's cap + 0.1 x the live distance beyond the moment's 3 / 43 / 29 (44 met); only
+        # while the moment closes in 4 / 45 / 24; and under 0.12 m 4 / 42 / 27; the main-frame
+        # correction's pace raised alike 7 / 42 / 26; the cap kept for the step round the main
+        # first 15 / 44 / 26; the cap x the live main's speed over the moment's main's (0.5 s)
+        # where slower 39 / 86 / 72, where under half 9 / 60 / 28. Not kept
         # Its orbit beside a walking main turning over 0.5 rad/s (seeds 0, 131 fast, 133 loops,
         # 44, 51, 131 slow; the bench's 1 s mean of its own angular rate round the main): its
         # matched moments' own 0.577 rad/s, raw 0.544, this smooth 0.538, the governor's filter
