@@ -141,8 +141,9 @@ def test_hands_shake_a_little(demos, name):
 def test_the_designers_own_character_on_another_path_is_the_fidelity_reference(demos):
     # reaction_on_grid plays a personality against a main path it was not made on, on the
     # generation grid: the reference bench/fidelity.py sets beside each generated reactor
-    from behaviors.puppet_master import fidelity, visitors
-    paths = visitors.unseen_main_paths(0, 40.0, (1.2, 0.8))
+    from behaviors.puppet_master import fidelity
+    from tests.puppet_master.demos import unseen_main_paths
+    paths = unseen_main_paths(0, 40.0, (1.2, 0.8))
     for path in ("slow_pauses_30hz", "fast_reversals_60hz"):
         main = paths[path]
         rows = {}

@@ -9,11 +9,12 @@ import math
 
 import numpy as np
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.engine import Reactor
 from behaviors.puppet_master.generation import StepSmoother, turn_between
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -32,7 +33,7 @@ def _outside_matched(b: Behavior, seed: int) -> float:
     """Mean over the unseen paths of ``seed`` of the live distance to the main less the
     matched moment's demonstrated distance (metres), the main fed on the generation grid."""
     gaps = []
-    for main in visitors.unseen_main_paths(seed, 40.0, examples.TABLE).values():
+    for main in unseen_main_paths(seed, 40.0, examples.TABLE).values():
         t = np.arange(0.0, main[-1, 0], 1.0 / b.params.rate_hz)
         reactor = Reactor(b, TABLE, max_backlog=None)
         for ti, (x, y, d) in zip(t, fidelity.main_on_grid(main, t)):

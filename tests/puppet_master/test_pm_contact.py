@@ -10,20 +10,20 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.character import TOUCH_M
 from behaviors.puppet_master.engine import Reactor
 from behaviors.puppet_master.demonstrated import charge_entries, charges, still_main_speed
 from behaviors.puppet_master.generation import share_around
 from tabletop import examples
-from tests.puppet_master.demos import shipped
+from tests.puppet_master.demos import shipped, unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
 
 @pytest.fixture(scope="module")
 def paths():
-    return {seed: visitors.unseen_main_paths(seed, 40.0, examples.TABLE) for seed in (0, 1, 2, 5)}
+    return {seed: unseen_main_paths(seed, 40.0, examples.TABLE) for seed in (0, 1, 2, 5)}
 
 
 def test_a_target_farther_out_is_reached_round_the_main():
@@ -156,7 +156,7 @@ def test_a_single_pass_close_by_is_not_kept_whole_as_a_charge():
     b = shipped("stalker")
     demo = fidelity.demonstration_figures(b)
     for seed in (26, 28):
-        main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"]
+        main = unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"]
         row = fidelity.evaluate(b, main, TABLE, demo)
         assert row["ok_contact"], (seed, row["gen_contact"], row["demo_contact"])
     assert shipped("bully").charging

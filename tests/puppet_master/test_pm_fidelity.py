@@ -9,6 +9,7 @@ from behaviors.puppet_master.engine import Behavior
 from behaviors.puppet_master.look import train_look
 from behaviors.puppet_master.sequential import pair_takes
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
@@ -55,7 +56,7 @@ KNOWN_MISSES = {
 
 @pytest.fixture(scope="module")
 def paths():
-    return visitors.unseen_main_paths(0, 40.0, examples.TABLE)
+    return unseen_main_paths(0, 40.0, examples.TABLE)
 
 
 @pytest.fixture(scope="module")
@@ -94,7 +95,7 @@ def test_the_lovers_look_stays_on_its_main_on_fast_paths(shipped, paths, monkeyp
     # where the lover faced its main and its main's look frame was as steady (3% of its
     # samples), that frame turned its look off an unseen fast main: per-step look change
     # 1.56 and 1.76x the demonstration's on seeds 0 and 1 (look.GAZE_MARGIN: 1.31 and 1.36)
-    fast1 = visitors.unseen_main_paths(1, 40.0, examples.TABLE)["fast_reversals_60hz"]
+    fast1 = unseen_main_paths(1, 40.0, examples.TABLE)["fast_reversals_60hz"]
     b = shipped["lover"]
     demo = fidelity.demonstration_figures(b)
     for main in (paths["fast_reversals_60hz"], fast1):
@@ -205,7 +206,7 @@ def test_the_bully_charges_into_contact_and_keeps_a_charge_whole(shipped, paths)
     # 0.128; 0.053 on seed 0 before charges were kept whole, 0.124 on seed 1 while the detail
     # still turned a charge's steps)
     demo = fidelity.demonstration_figures(b)
-    rows = [fidelity.evaluate(b, visitors.unseen_main_paths(seed, 40.0, examples.TABLE)[
+    rows = [fidelity.evaluate(b, unseen_main_paths(seed, 40.0, examples.TABLE)[
         "loops_spins_45hz"], TABLE, demo) for seed in range(6)]
     assert sum(row["ok_contact"] for row in rows) >= 5, [row["gen_contact"] for row in rows]
 
@@ -281,7 +282,7 @@ def test_the_stalker_keeps_its_pace_behind_a_fast_or_spinning_main(shipped, path
     its top speed on 30% of the steps of the loops, chasing targets 10-15 cm off."""
     b = shipped["stalker"]
     demo = fidelity.demonstration_figures(b)
-    fast = visitors.unseen_main_paths(1, 40.0, examples.TABLE)["fast_reversals_60hz"]
+    fast = unseen_main_paths(1, 40.0, examples.TABLE)["fast_reversals_60hz"]
     for main, most_w1, most_moving in ((paths["loops_spins_45hz"], 0.03, 0.30),
                                        (fast, 0.03, 0.30)):
         row = fidelity.evaluate(b, main, TABLE, demo)

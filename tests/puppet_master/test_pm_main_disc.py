@@ -7,10 +7,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.character import TOUCH_M
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -43,7 +44,7 @@ def test_the_playful_friend_never_comes_nearer_its_main_than_shown(friend, seed,
     assert not b.charging and not b.keeps_pace and b.personal_space == 0.0
     least = float(b.distance.min())            # 0.052 m: its designer's pucks touch
     assert 0.045 < least < TOUCH_M
-    main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)[path]
+    main = unseen_main_paths(seed, 40.0, examples.TABLE)[path]
     rows = fidelity.generate(b, main, TABLE)
     mg = fidelity.main_on_grid(main, rows[:, 0])
     dist = np.hypot(rows[:, 1] - mg[:, 0], rows[:, 2] - mg[:, 1])

@@ -5,10 +5,11 @@ import math
 
 import numpy as np
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.engine import Behavior
 from behaviors.puppet_master.generation import mean_capped
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -37,7 +38,7 @@ def test_the_lover_walks_beside_a_slow_main_at_its_designers_pace():
     b = Behavior.train(stored.demonstration, **stored.parameters)
     assert b.walks_with_main
     demo = fidelity.demonstration_figures(b)
-    speeds = [fidelity.evaluate(b, visitors.unseen_main_paths(seed, 40.0, examples.TABLE)
+    speeds = [fidelity.evaluate(b, unseen_main_paths(seed, 40.0, examples.TABLE)
                                 ["slow_pauses_30hz"], TABLE, demo)["gen_speed_moving_mps"]
               for seed in (1, 2, 3)]
     # measured 0.0826, 0.0907, 0.0902 m/s (each raw step capped instead: 0.0796, 0.0774,

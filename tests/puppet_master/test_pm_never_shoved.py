@@ -5,9 +5,10 @@ that step (Behavior.largest_step, step.py), in the Python step and the compiled 
 
 import numpy as np
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.engine import Reactor
 from tabletop import examples
+from tests.puppet_master.demos import unseen_main_paths
 from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (fixture)
 
 
@@ -27,7 +28,7 @@ def test_the_lover_gives_way_at_its_largest_step(shipped):
     # paths of 9 of the 18 seeds 0-5, 8-13, 26-31 (1.05-1.25x), on the loops of 5 (1.0-1.04x)
     b = shipped["lover"]
     assert b.largest_step == float(np.max(np.hypot(*np.diff(b.react[:, :2], axis=0).T)))
-    main = visitors.unseen_main_paths(2, 40.0, examples.TABLE)["fast_reversals_60hz"]
+    main = unseen_main_paths(2, 40.0, examples.TABLE)["fast_reversals_60hz"]
     main = main[main[:, 0] < 12.0]
     fast, slow = _generate(b, main, True), _generate(b, main, False)
     assert np.array_equal(fast.view(np.uint64), slow.view(np.uint64))

@@ -5,10 +5,11 @@ playful friend darts in) have none."""
 
 import numpy as np
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.character import MIN_OWN_TOUCHES, TOUCH_M
 from behaviors.puppet_master.engine import Behavior
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (fixture)
 
 
@@ -29,7 +30,7 @@ def test_the_lover_is_not_walked_into_on_unseen_paths(shipped):
     # 0.008 demonstrated); with its personal space: 0.001 and 0.001
     b = shipped["lover"]
     demo = fidelity.demonstration_figures(b)
-    paths = visitors.unseen_main_paths(0, 40.0, examples.TABLE)
+    paths = unseen_main_paths(0, 40.0, examples.TABLE)
     for path in ("fast_reversals_60hz", "loops_spins_45hz"):
         main = paths[path]
         rows = fidelity.generate(b, main, TABLE)

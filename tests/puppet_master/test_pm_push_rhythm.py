@@ -7,11 +7,11 @@ and the playful friend's darts touch its main as regularly as its designer's."""
 
 import numpy as np
 
-from behaviors.puppet_master import designers, features, fidelity, visitors
+from behaviors.puppet_master import designers, features, fidelity
 from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.character import PUCK_M, TOUCH_M
 from tabletop import examples
-from tests.puppet_master.demos import shipped
+from tests.puppet_master.demos import shipped, unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -60,7 +60,7 @@ def test_the_bully_pushes_as_often_as_its_designer_beside_slow_and_fast_mains():
     rate = b.params.rate_hz
     off, fast = [], []
     for seed in range(6):
-        for path, main in visitors.unseen_main_paths(seed, 40.0, examples.TABLE).items():
+        for path, main in unseen_main_paths(seed, 40.0, examples.TABLE).items():
             if path.startswith("loops"):
                 continue
             rows = fidelity.generate(b, main, TABLE)
@@ -85,7 +85,7 @@ def test_the_playful_friend_touches_its_main_as_regularly_as_its_designer():
     rate = b.params.rate_hz
     gen, own = [], []
     for seed in range(6):
-        for main in visitors.unseen_main_paths(seed, 40.0, examples.TABLE).values():
+        for main in unseen_main_paths(seed, 40.0, examples.TABLE).values():
             rows = fidelity.generate(b, main, TABLE)
             near = np.hypot(*(rows[:, 1:3] - fidelity.main_on_grid(main, rows[:, 0])[:, :2]).T)
             gen.append(float(np.mean(near < TOUCH_M)))
@@ -101,7 +101,7 @@ def _mains(paths: tuple[tuple[int, str], ...]) -> list[np.ndarray]:
     """The unseen main paths named by (seed, path kind)."""
     out = []
     for seed, kind in paths:
-        mains = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)
+        mains = unseen_main_paths(seed, 40.0, examples.TABLE)
         out.append(next(m for p, m in mains.items() if p.startswith(kind)))
     return out
 

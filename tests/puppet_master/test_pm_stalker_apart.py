@@ -7,11 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.character import TOUCH_M
 from behaviors.puppet_master.generation import StepSmoother
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -57,7 +58,7 @@ def test_the_stalker_keeps_out_of_its_main_at_reversals(stalker):
     least = float(b.distance.min())            # 0.053 m (its designer's pucks touch at 0.055)
     assert 0.045 < least < TOUCH_M
     for seed in (26, 28, 30):
-        main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"]
+        main = unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"]
         rows = fidelity.generate(b, main, TABLE)
         mg = fidelity.main_on_grid(main, rows[:, 0])
         dist = np.hypot(rows[:, 1] - mg[:, 0], rows[:, 2] - mg[:, 1])

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, generation_kernel, visitors
+from behaviors.puppet_master import fidelity, generation_kernel
 from behaviors.puppet_master.demonstrated import main_approach
 from behaviors.puppet_master.generation import less_approach
 from tabletop import examples
-from tests.puppet_master.demos import shipped
+from tests.puppet_master.demos import shipped, unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 SEEDS = (0, 1, 2, 3, 4, 5, 8, 9, 10, 11, 12, 13)
@@ -66,7 +66,7 @@ def test_the_stalkers_contact_on_fast_reversing_mains_stays_in_its_band():
     # passes, matched where the live main walked at it at 0.21 m/s against 0.10 shown)
     b = shipped("stalker")
     demo = fidelity.demonstration_figures(b)
-    contact = [fidelity.evaluate(b, visitors.unseen_main_paths(seed, 40.0, examples.TABLE)[
+    contact = [fidelity.evaluate(b, unseen_main_paths(seed, 40.0, examples.TABLE)[
         "fast_reversals_60hz"], TABLE, demo)["gen_contact"] for seed in SEEDS]
     assert np.mean(contact) <= 0.038, contact
     assert sum(c > demo["contact"] + 0.02 for c in contact) <= 3, contact

@@ -7,10 +7,11 @@ stood (features.main_still)."""
 
 import numpy as np
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S
 from behaviors.puppet_master.engine import Reactor
 from tabletop import examples
+from tests.puppet_master.demos import unseen_main_paths
 from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (fixture)
 
 
@@ -21,7 +22,7 @@ def test_the_lover_keeps_its_pace_beside_a_still_main(shipped):
     b = shipped["lover"]
     demo = fidelity.demonstration_figures(b)
     rows = {seed: fidelity.evaluate(
-        b, visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["slow_pauses_30hz"], TABLE,
+        b, unseen_main_paths(seed, 40.0, examples.TABLE)["slow_pauses_30hz"], TABLE,
         demo) for seed in (0, 2)}
     assert rows[0]["ok_still_moving"], rows[0]["gen_still_moving_ratio"]
     assert rows[2]["gen_speed_still_mps"] < 0.062, rows[2]["gen_speed_still_mps"]
@@ -54,7 +55,7 @@ def test_the_stalker_beside_a_standing_main_matches_moments_whose_main_stood(shi
     shares = []
     for seed in (0, 2, 30):
         share, steps = _stood_share(
-            b, visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["loops_spins_45hz"])
+            b, unseen_main_paths(seed, 40.0, examples.TABLE)["loops_spins_45hz"])
         assert steps > 100
         shares.append(share)
     assert np.mean(shares) > 0.45, shares
@@ -83,7 +84,7 @@ def test_the_stalker_stops_soon_after_its_main(shipped):
     assert b.keeps_pace and b.stop_span == 8
     for seed in (10, 27):
         v = _first_still_speed(
-            b, visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"])
+            b, unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"])
         assert v < 0.2, (seed, v)
 
 
@@ -102,7 +103,7 @@ def test_the_afraid_character_keeps_its_pace_beside_a_standing_main(shipped):
     demo = fidelity.demonstration_figures(b)
     shares, ratios = [], []
     for seed in (0, 1, 2, 3, 4, 5, 13, 31):
-        main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["slow_pauses_30hz"]
+        main = unseen_main_paths(seed, 40.0, examples.TABLE)["slow_pauses_30hz"]
         share, steps = _stood_share(b, main)
         assert steps > 50           # seed 5's main stands least: 75 steps, the others 100+
         shares.append(share)

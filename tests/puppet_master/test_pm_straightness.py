@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity
 from behaviors.puppet_master.behavior import Behavior
 from behaviors.puppet_master.generation import kept_straightness
 from tabletop import examples, library
+from tests.puppet_master.demos import unseen_main_paths
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -35,7 +36,7 @@ def test_the_lovers_slow_walk_keeps_its_demonstrated_speed():
     b = _lover()
     assert 0.9 < b.straightness < 0.97          # measured 0.944: its steps turn a little
     demo = fidelity.demonstration_figures(b)
-    rows = {s: fidelity.evaluate(b, visitors.unseen_main_paths(s, 40.0, examples.TABLE)
+    rows = {s: fidelity.evaluate(b, unseen_main_paths(s, 40.0, examples.TABLE)
                                  ["slow_pauses_30hz"], TABLE, demo) for s in (0, 1)}
     # measured without the lengthening: seed 0 speed W1 0.0211 m/s (the budget 0.2 x 0.110
     # = 0.022), seed 1 speed beside its walking main 0.083 m/s; with it 0.0183 and 0.089
