@@ -52,7 +52,7 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 #: the step that first calls one (behaviors.kernel_cache.load; what they call is in their code).
 _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
             path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
-            reversal.reversal_size, reversal.reversal_way, reversal.went_on, reversal.moved_back2,
+            reversal.reversal_size, reversal.reversal_way, reversal.went_on,
             size_probe.probe_allowed, size_probe.take_probe,
             fresh_refusal.refuse, speed_profile.outpaces, halts.halts)
 

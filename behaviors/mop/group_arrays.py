@@ -196,8 +196,7 @@ class GroupArrays:
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
                    "keep": lambda f: f.still_samples, "reversal_move2": lambda f: f._reversal_move2,
-                   "coverage": lambda f: f.coverage,
-                   "reversal_spread2": lambda f: f._reversal_spread2}
+                   "coverage": lambda f: f.coverage}
         cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])

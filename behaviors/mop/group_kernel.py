@@ -36,7 +36,7 @@ from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG
 from behaviors.mop.reversal import (REVERSAL_LARGER_AHEAD, REVERSAL_UNDO_SAMPLES, input_reversal,
-                                    moved_back2, reversal_size, reversal_way, went_on)
+                                    reversal_size, reversal_way, went_on)
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
@@ -200,11 +200,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 num[k] -= rev_undo[k]
             was = num[k]
             # ... and a reversal's (_reversal_sizes), but not the strained action driving's
-            # (Refusal._recent_dist2) nor where the input moved back within its spread
+            # (Refusal._recent_dist2)
             if turned and reversal_at[gs] >= 0 and not (
                     k - a0 == acquired[i]
-                    and (log_constant - rec[k] / rw[k]) * two_over > accept2) and moved_back2(
-                    buf, i, x, t[sc0:sc0 + d], size[k], int(dims)) >= m[25]:
+                    and (log_constant - rec[k] / rw[k]) * two_over > accept2):
                 rrow = states[reversal_at[gs] + off]
                 for c in range(d):
                     hq[c] = rrow[rel0 + c]

@@ -171,9 +171,8 @@ import numpy as np
 
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_LARGER_AHEAD, REVERSAL_MOVE,
-                                    REVERSAL_SPREAD, REVERSAL_UNDO_SAMPLES, input_reversal,
-                                    moved_back2, reversal_map, reversal_size, reversal_way,
-                                    went_on)
+                                    REVERSAL_UNDO_SAMPLES, input_reversal, reversal_map,
+                                    reversal_size, reversal_way, went_on)
 from behaviors.mop.size_probe import PROBE_FLOOR, probe_allowed, take_probe
 
 INVARIANCES = ("scale", "offset", "none")
@@ -238,7 +237,6 @@ class PerformanceFrame:
         self._reversal_at = (reversal_map(self._rel, b.starts, b.lengths) if REVERSAL_FIT > 0
                              else np.full(len(self._rel), -1, dtype=np.intp))
         self._reversal_tol = REVERSAL_FIT * self._extent
-        self._reversal_spread2 = (REVERSAL_SPREAD * self.sigma) ** 2   # (_reversal_sizes)
         self._rejudge_at = math.log(REJUDGE) if REJUDGE > 1 else math.inf
         rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
         self._prior = scale_prior * rho2                          # (K,) prior weight at size 1
@@ -379,9 +377,6 @@ class PerformanceFrame:
         lo, hi = self.scale_range
         for k in np.flatnonzero(at >= 0).tolist():
             if k == self._acquired and self._recent_dist2(k) > self._accept2:   # strained
-                continue
-            if moved_back2(buf, 0, x[None], self.bank.scale[k], float(self._size[k]),
-                           self.dim) < self._reversal_spread2:   # within its spread
                 continue
             s = reversal_size(self._rel[at[k]], self._rev_turn, lo, hi,
                               float(self._reversal_tol[k]))

@@ -35,10 +35,6 @@ REVERSAL_MOVE = 2.0
 REVERSAL_UNDO_SAMPLES = 6
 #: ... by more than :data:`REVERSAL_MOVE` still radii, at a cosine above this to that way.
 REVERSAL_UNDO_COS = 0.7
-#: A reversal sizes a template only where the input moved back by this share of the states'
-#: spread (sigma) or more, in the template's standardised units at its size (RMS over its
-#: columns, :func:`moved_back2`): less is within the jitter the template allows there.
-REVERSAL_SPREAD = 0.25
 #: A template's reversal (its states as the input's samples, the sharpest of a run) is a
 #: landmark of the followed state from this many states behind it to this many ahead.
 #: Some lie in a wiggle of the first states, about 1 mm from the first (the figure eight's
@@ -220,18 +216,3 @@ def went_on(r: np.ndarray, turn: np.ndarray, way: np.ndarray, move2: float) -> b
         along += w * way[c]
         w2 += w * w
     return along > math.sqrt(move2) and along > REVERSAL_UNDO_COS * math.sqrt(w2)
-
-
-@compiled(numba.float64(numba.float64[:, :, ::1], numba.intp, numba.float64[:, ::1],
-                        numba.float64[::1], numba.float64, numba.intp))
-def moved_back2(buf: np.ndarray, i: int, x: np.ndarray, scale: np.ndarray, size: float,
-                dims: int) -> float:
-    """The input's move back at its reversal (``x[i]`` less ``buf[i]``'s row
-    :data:`REVERSAL_LAG` samples before) in a template's standardised units (``scale``, raw
-    units per unit) at ``size``: its mean square over the first ``dims`` columns."""
-    b = buf.shape[1] - REVERSAL_LAG
-    tot = 0.0
-    for c in range(dims):
-        v = (x[i, c] - buf[i, b, c]) / (scale[c] * size)
-        tot += v * v
-    return tot / dims
