@@ -30,11 +30,6 @@ REVERSAL_MOVE = 2.0
 # .478 -> .391, the apex of a turn reads as a rest over four samples. Nor with the sizes taken in
 # the samples before a rest's onset undone there: 108 .8983, the 1x square's pause still driven
 # by the line, which led it on evidence.)
-#: The sizes a reversal gave are undone when, within this many samples after it, the input
-#: goes on past its turn the way it came (:func:`went_on`): it paused, or shook, and went on.
-REVERSAL_UNDO_SAMPLES = 6
-#: ... by more than :data:`REVERSAL_MOVE` still radii, at a cosine above this to that way.
-REVERSAL_UNDO_COS = 0.7
 #: A template's reversal (its states as the input's samples, the sharpest of a run) is a
 #: landmark of the followed state from this many states behind it to this many ahead.
 #: Some lie in a wiggle of the first states, about 1 mm from the first (the figure eight's
@@ -184,35 +179,3 @@ def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float
         e = r[c] - s * q[c]
         e2 += e * e
     return s if e2 <= (tol * s) ** 2 else 0.0
-
-
-@compiled(numba.void(numba.float64[:, :, ::1], numba.intp, numba.float64[::1],
-                     numba.float64[::1]))
-def reversal_way(buf: np.ndarray, i: int, units: np.ndarray, out: np.ndarray) -> None:
-    """The way the input came into its reversal (:func:`input_reversal`'s motion before, over
-    ``buf[i]``'s rows, in ``units``), as a unit vector in ``out`` (d,)."""
-    lag = REVERSAL_LAG
-    s = buf.shape[1]
-    a, b = s - 2 * lag, s - lag
-    n = 0.0
-    for c in range(out.size):
-        out[c] = (buf[i, b, c] - buf[i, a, c]) / units[c]
-        n += out[c] * out[c]
-    n = math.sqrt(n)
-    for c in range(out.size):
-        out[c] = out[c] / n if n > 0.0 else 0.0
-
-
-@compiled(numba.boolean(numba.float64[::1], numba.float64[::1], numba.float64[::1],
-                        numba.float64))
-def went_on(r: np.ndarray, turn: np.ndarray, way: np.ndarray, move2: float) -> bool:
-    """Whether the input ``r`` (d,: from the anchor, in units) lies past a reversal's ``turn``
-    (the same) the ``way`` it came into it (unit vector), by more than ``sqrt(move2)`` and at a
-    cosine above :data:`REVERSAL_UNDO_COS` to that way: no reversal after all."""
-    along = 0.0
-    w2 = 0.0
-    for c in range(r.size):
-        w = r[c] - turn[c]
-        along += w * way[c]
-        w2 += w * w
-    return along > math.sqrt(move2) and along > REVERSAL_UNDO_COS * math.sqrt(w2)
