@@ -36,7 +36,8 @@ REVERSAL_MOVE = 2.0
 # .9067 .9138 .9027 .9038 (105's 1.2x dance ankle, 2.7 mm back read at 0.37 of it and sized
 # 1.22 -> 1.43, .565 -> .978); the three lower from the right size put back a sample sooner
 # (paused dance ankles, 102 1.000 -> .911, 103 .967 -> .885: progress ran on in the pause; 111
-# a size put back twice re-judged). At a cosine above 0.3: a turn into a new stroke with some
+# a size put back twice re-judged; with the size put back taken as judged, no second re-judge:
+# 102 .8999, 103 .9164, 111 as before). At a cosine above 0.3: a turn into a new stroke with some
 # of the old way in it undone, 108 .8906 -> .8800. Nor a reversal sizing a template where the
 # input moved back less than 0.25 sigma in its units at its size (RMS over its columns), with
 # the undo: 108's 0.7x cartwheel ankle 0 -> .949 (2.2 mm back by its turn 0.2 mm from its
