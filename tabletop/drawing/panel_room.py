@@ -3,7 +3,7 @@ the panel leaves its window side clear, its lines wrap narrower so it ends befor
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Callable, Sequence
 
 import pygame
 
@@ -15,6 +15,8 @@ from tabletop.table_map import TableToScreen
 # "(ignored: ...)" counts made the panel 600 px wide at 1280x720, its end seen through over the
 # touch-pose character, and the line's last words read as text running past the panel's edge.
 NARROW_STEP, NARROW_MIN = 32, 320
+MUST_WEIGHT = 100        # a pixel of the studio's words weighs 100 of a character's
+OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 
 
 def clips(place: pygame.Rect, rects: Sequence[pygame.Rect]) -> list[pygame.Rect]:
@@ -55,16 +57,24 @@ def narrow_width(place: pygame.Rect, avoid: Sequence[pygame.Rect], window_w: int
     return width if NARROW_MIN <= width < place.w else None
 
 
+def narrow_at(place: pygame.Rect, size: tuple[int, int], window: tuple[int, int],
+              must: Sequence[pygame.Rect]) -> pygame.Rect | None:
+    """Where a narrower panel of ``size`` stands in the corner of ``place``, or None when it
+    would be taller than the window or lie over the studio's words (``must``)."""
+    (W, H), (w, h) = window, size
+    at = pygame.Rect(place.x if place.x <= W - place.right else place.right - w,
+                     place.y if place.centery < H / 2 else place.bottom - h, w, h)
+    return None if h > H - 16 or at.collidelist(list(must)) >= 0 else at
+
+
 def narrow_place(place: pygame.Rect, size: tuple[int, int], window: tuple[int, int],
                  avoid: Sequence[pygame.Rect], must: Sequence[pygame.Rect]
                  ) -> pygame.Rect | None:
     """Where a narrower panel of ``size`` stands in the corner of ``place``, or None when it
     would be taller than the window, lie over the studio's words (``must``), or hide no less
     of ``avoid``."""
-    (W, H), (w, h) = window, size
-    at = pygame.Rect(place.x if place.x <= W - place.right else place.right - w,
-                     place.y if place.centery < H / 2 else place.bottom - h, w, h)
-    if h > H - 16 or at.collidelist(list(must)) >= 0:
+    at = narrow_at(place, size, window, must)
+    if at is None:
         return None
 
     def hidden(r: pygame.Rect) -> int:
@@ -87,3 +97,58 @@ class NarrowPanel:
                                                 px_sizes=[p for p in sizes if p <= px])
             self._key = key
         return self._img
+
+
+def hidden(place: pygame.Rect, avoid: Sequence[pygame.Rect], must: Sequence[pygame.Rect],
+           drawn: Sequence[tuple[pygame.Rect, CharacterState]], table: TableToScreen,
+           window_h: int) -> int:
+    """What a panel at ``place`` hides: the pixels of ``avoid`` (of a character its body), a
+    pixel of ``must`` weighing MUST_WEIGHT, and OVER_WORDS more when it lies over any of
+    them."""
+    near = bodies(avoid, drawn, table, place, window_h)
+    words = sum(c.w * c.h for c in clips(place, must))
+    return (sum(c.w * c.h for c in clips(place, near)) + MUST_WEIGHT * words
+            + (OVER_WORDS if words else 0))
+
+
+class PanelPlace:
+    """The operator panel's place in the window (pixels): its corner, kept until one hiding
+    less than half as much is found, and its lines narrowed to end before a body under it."""
+
+    def __init__(self) -> None:
+        self.corner = 0              # 0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right,
+        # then the same corners of the rows the studio's words leave free (4-7)
+
+    def __call__(self, corners: Sequence[tuple[int, int]], img: pygame.Surface,
+                 avoid: Sequence[pygame.Rect], must: Sequence[pygame.Rect],
+                 drawn: Sequence[tuple[pygame.Rect, CharacterState]], table: TableToScreen,
+                 window: tuple[int, int], narrow: Callable[[int], pygame.Surface] | None
+                 ) -> tuple[pygame.Rect, pygame.Surface]:
+        """The panel's rectangle and image: ``img`` in one of ``corners`` (its top-left, px),
+        or, ``narrow`` given (its lines wrapped to a width), narrower in its corner."""
+        W, H = window
+        size = img.get_size()
+        self.corner %= len(corners)    # (a free rows' place falls back to its window corner)
+        over: dict[int, int] = {}
+
+        def hides(i: int) -> int:
+            if i not in over:
+                over[i] = hidden(pygame.Rect(corners[i], size), avoid, must, drawn, table, H)
+            return over[i]
+        now = hides(self.corner)
+        if now > 0:
+            best = min(range(4), key=hides)
+            if hides(best) >= OVER_WORDS and len(corners) > 4:   # every window corner
+                best = min(range(len(corners)), key=hides)
+            if hides(best) < 0.5 * now:
+                self.corner = best
+        place = pygame.Rect(corners[self.corner], size)
+        if narrow is not None and place.collidelist(list(avoid)) >= 0:
+            near = bodies(avoid, drawn, table, place, H)
+            width = narrow_width(place, near, W)
+            if width is not None:
+                thin = narrow(width)
+                at = narrow_place(place, thin.get_size(), window, near, must)
+                if at is not None:
+                    return at, thin
+        return place, img
