@@ -411,7 +411,7 @@ class Renderer:
         place, img = self._room(
             corners, self._overlay_img, avoid, must, self._drawn_chars, self.map, (W, H),
             (lambda width: self._narrow(lines, width, cap, self._overlay_px, sizes, keep))
-            if reading.right == (1, 0) else None)   # (its lines end on the right)
+            if reading.right == (1, 0) else None, self._t)   # (its lines end on the right)
         self.panel = place
         holes = panel_room.clips(place, avoid)
         if holes:
