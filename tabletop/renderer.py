@@ -36,8 +36,6 @@ LOOK_RANGE_M = 0.6       # a character without a stated target looks at the near
 # a mouse finger's ring: its radius (table metres: 9 px at 1280x720 on a 1.2 x 0.8 m table,
 # 14 px at 1920x1080, at least 6; its line 2 and 3 px)
 FINGER_RING, FINGER_M = (235, 235, 235), 0.0107
-MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
-OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
 # panel may take its whole width less 16 px, up to PANEL_MIN_PX): a panel as wide as the
 # window, made by one long line (the studio's naming a bad library file), hid the studio's REC
@@ -99,7 +97,7 @@ class Renderer:
         self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
         self._narrow = panel_room.NarrowPanel()   # the panel wrapped to end before a character
-        self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
+        self._room = panel_room.PanelPlace()   # the overlay panel's corner and narrowing
         self.panel: pygame.Rect | None = None   # where the panel was last drawn (px)
         self._see_through = see_through.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
@@ -362,11 +360,11 @@ class Renderer:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
         would hide what is drawn in ``avoid``, of a character its body (:func:`panel_room.bodies`),
         and another corner hides at most half as much; a pixel of ``must``, the studio's words,
-        counts as ``MUST_WEIGHT`` of them: a panel over the status line saying the disk is full
-        stayed there, other corners having characters).
+        counts as ``panel_room.MUST_WEIGHT`` of them: a panel over the status line saying the
+        disk is full stayed there, other corners having characters; :class:`panel_room.PanelPlace`).
         Where every window corner is over the studio's words, the panel stands in the corner of
         the rows they leave free (in its column), its lines fitted to the tallest such rows: it
-        never lies over them when a place clear of them exists (:data:`OVER_WORDS`);
+        never lies over them when a place clear of them exists (``panel_room.OVER_WORDS``);
         rendered again only when the lines change. Where the panel still lies over ``avoid``,
         it shows them through (:data:`SEE_THROUGH`); over ``must`` it stays dark, so its own
         text stays readable over the studio's. Returns the panel's rectangle. ``avoid`` and
@@ -410,43 +408,12 @@ class Renderer:
             tops = [min([a for a, b in side if b - a >= h] or [8]) for side in bands]
             lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
             corners += [(8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
-        self._corner %= len(corners)    # (a free rows' place falls back to its window corner)
-        over: dict[int, list[tuple[pygame.Rect, int]]] = {}
-
-        def under(i: int) -> list[tuple[pygame.Rect, int]]:
-            """What the panel in corner ``i`` lies over (panel pixels) and its weight."""
-            got = over.get(i)
-            if got is None:
-                r = pygame.Rect(corners[i], (w, h))
-                near = panel_room.bodies(avoid, self._drawn_chars, self.map, r, H)
-                got = over[i] = [(c, weight) for rects, weight in ((near, 1), (must, MUST_WEIGHT))
-                                 for c in panel_room.clips(r, rects)]
-            return got
-
-        def hidden(i: int) -> int:
-            got = under(i)
-            return sum(weight * c.w * c.h for c, weight in got) + (
-                OVER_WORDS if any(weight != 1 for _, weight in got) else 0)
-        now = hidden(self._corner)
-        if now > 0:
-            best = min(range(4), key=hidden)
-            if hidden(best) >= OVER_WORDS and len(corners) > 4:   # every window corner
-                best = min(range(len(corners)), key=hidden)
-            if hidden(best) < 0.5 * now:
-                self._corner = best
-        place = pygame.Rect(corners[self._corner], (w, h))
+        place, img = self._room(
+            corners, self._overlay_img, avoid, must, self._drawn_chars, self.map, (W, H),
+            (lambda width: self._narrow(lines, width, cap, self._overlay_px, sizes, keep))
+            if reading.right == (1, 0) else None, self._t)   # (its lines end on the right)
         self.panel = place
-        img = self._overlay_img
         holes = panel_room.clips(place, avoid)
-        if holes and reading.right == (1, 0):   # (its lines end on the right)
-            bodies = panel_room.bodies(avoid, self._drawn_chars, self.map, place, H)
-            width = panel_room.narrow_width(place, bodies, W)
-            if width is not None:
-                narrow = self._narrow(lines, width, cap, self._overlay_px, sizes, keep)
-                at = panel_room.narrow_place(place, narrow.get_size(), (W, H), bodies, must)
-                if at is not None:
-                    img, place = narrow, at
-                    self.panel, holes = place, panel_room.clips(place, avoid)
         if holes:
             # the panel stays where it hides least (a corner that hides less than half as much
             # is needed to move it), so what is left under it shows through: the rectangles

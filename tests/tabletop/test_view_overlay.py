@@ -145,7 +145,7 @@ def test_overlay_panel_moves_away_from_a_character_in_its_corner():
         r.draw(s, Frame(seq=k, t=k * 0.3, characters=(c,)), lines)
     x, y = r.map.point(0.1, 0.75)
     assert at(rgb(s), (x, y))[0] > 200     # the character is not hidden under the panel
-    assert r._corner != 0                   # which has left the top-left corner
+    assert r._room.corner != 0                  # which has left the top-left corner
 
 
 @pytest.mark.parametrize("action,least", [("recording", 450), ("trying", 1100)])
@@ -183,7 +183,7 @@ def test_overlay_panel_leaves_the_studio_status_line_even_for_a_corner_with_a_ch
                                                             for i in range(10)]
     for k in range(3):                                  # no studio words: bottom-left is free
         r.draw(s, Frame(seq=k, t=k * 0.3, characters=chars), lines)
-    assert r._corner == 2
+    assert r._room.corner == 2
     said = ("[lover] cannot: /media/library/lover-2: cannot save behaviour: No space left on "
             "device")
     studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action="trying",
@@ -192,7 +192,7 @@ def test_overlay_panel_leaves_the_studio_status_line_even_for_a_corner_with_a_ch
         r.draw(s, Frame(seq=k, t=k * 0.3, characters=chars + (studio,)), lines)
     x, y = map(int, r.map.point(0.02, 0.02))           # the status line's start
     panel = r.panel
-    assert not panel.collidepoint(x + 5, y - 10), r._corner   # stayed in corner 2 before
+    assert not panel.collidepoint(x + 5, y - 10), r._room.corner   # stayed in corner 2 before
 
 
 def test_overlay_lists_rates_and_sources():
