@@ -51,6 +51,8 @@ every other figure identical.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 #: A template's first bend: the first state whose turning (radians from its first direction,
@@ -82,6 +84,10 @@ GROWN_STRAIGHT = True
 WAITS = 0.3
 #: ... within this (progress) of where the wait began.
 WAIT_AHEAD = 0.06
+#: A new action is not taken while the performer rests and the input's turning since the
+#: gesture began is under :data:`UNTURNED` where its template's own turning at the followed
+#: state lies this far (radians, whole turns aside) from the input's (:func:`bent_rest`; 0: never).
+REST_BENT = 0.5
 
 
 def straight(path: np.ndarray) -> bool:
@@ -151,3 +157,12 @@ def unturned(before: float, turn: float) -> bool:
     shown: the input's turning since the gesture began, ``turn`` (radians), is under
     :data:`UNTURNED`."""
     return before > 0.0 and abs(turn) < UNTURNED
+
+
+def bent_rest(rests: bool, bent: float, turn: float) -> bool:
+    """Whether a new action followed at a state whose template has turned ``bent`` (radians,
+    :func:`~behaviors.mop.turning.turning`) is not taken while the performer ``rests``: the
+    input's turning since the gesture began, ``turn``, is under :data:`UNTURNED` and lies
+    :data:`REST_BENT` or further from ``bent``, whole turns aside."""
+    off = abs((bent - turn + math.pi) % (2.0 * math.pi) - math.pi)
+    return REST_BENT > 0 and rests and abs(turn) < UNTURNED and off >= REST_BENT
