@@ -56,7 +56,7 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
     <behaviors.mop.bends.unspared>`: ``source`` (S,), each state's progress; ``straight_to``:
     its limit, -inf for never), into
     ``straight``; and, into ``ok`` as well, whether a new best is not taken while the member
-    ``rest``\ s on a straight stroke where its template has turned (:func:`bends.bent_rest
+    rests (``rest``) on a straight stroke where its template has turned (:func:`bends.bent_rest
     <behaviors.mop.bends.bent_rest>`; ``rest_bent``: its limit, 0 for never). The same
     operations in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi

@@ -1,0 +1,44 @@
+"""A take at rest on a straight stroke (``behaviors.mop.bends.bent_rest``): a straight stroke
+along the held-out getup wrist's own first direction, ended where the walk wrist turns back,
+does not take the walk wrist while the puck rests; the group decides it as its followers alone."""
+
+import numpy as np
+
+from bench.follow_quality import puck_follower, run
+from behaviors.mop import bends
+from tests.mop.helpers import group_beside_alone
+
+
+def _strokes(seeds=(0, 2)) -> tuple[dict[str, np.ndarray], list[np.ndarray]]:
+    """The held-out getup and walk wrists, and a straight stroke along the getup's own first
+    direction (``bench/follow_strokes.py``) at 0.7x, ``seeds``."""
+    from bench.follow_strokes import own_strokes
+    from bench.motions import MOCAP_HELD_OUT, mocap_templates, performance
+    m = mocap_templates(joints=MOCAP_HELD_OUT)
+    two = {n: m[n] for n in ("getup_facedown_right_wrist", "walk_left_wrist")}
+    path = own_strokes(two)["stroke_getup_facedown_right_wrist"]
+    return two, [performance(np.random.default_rng(s), path, 0.7)[0] for s in seeds]
+
+
+def _walk_valid(two: dict[str, np.ndarray], strokes: list[np.ndarray]) -> int:
+    return sum(s.valid and s.best == "walk_left_wrist"
+               for x in strokes for s in run(puck_follower(two), x))
+
+
+def test_a_rest_after_a_straight_stroke_does_not_take_a_turned_template(monkeypatch):
+    # the walk wrist's path has turned 0.77 rad where it turns back (0.51-0.54 of it); the
+    # stroke has not (under 0.1 rad). Measured: taken there 13 samples into the rest, valid
+    # 9 ticks with the rule off, none with it
+    two, strokes = _strokes((0,))
+    now = _walk_valid(two, strokes)
+    monkeypatch.setattr(bends, "REST_BENT", 0.0)
+    off = _walk_valid(two, strokes)
+    assert now == 0 and off >= 8, (now, off)
+
+
+def test_the_group_takes_nothing_at_rest_on_a_stroke_as_its_followers_alone():
+    # seeds 0 and 2 cut to the shorter: 5 and 21 valid ticks, 9 and 29 with the rule off
+    two, strokes = _strokes()
+    n = min(len(x) for x in strokes)
+    valid = group_beside_alone(lambda: puck_follower(two), [x[:n] for x in strokes])
+    assert valid[0] <= 5 and valid[1] <= 21, valid
