@@ -86,10 +86,8 @@ WAITS = 0.3
 WAIT_AHEAD = 0.06
 #: A new action is not taken while the performer rests and the input's turning since the
 #: gesture began is under :data:`UNTURNED` where its template's own turning at the followed
-#: state lies this far (radians, whole turns aside) from the input's (:func:`bent_rest`; 0: never)
+#: state lies this far (radians, whole turns aside) from the input's (:func:`bent_rest`; 0: never).
 REST_BENT = 0.5
-#: ... or, whatever the input's turning, this far.
-REST_TURNED = 1.2
 
 
 def straight(path: np.ndarray) -> bool:
@@ -164,8 +162,7 @@ def unturned(before: float, turn: float) -> bool:
 def bent_rest(rests: bool, bent: float, turn: float) -> bool:
     """Whether a new action followed at a state whose template has turned ``bent`` (radians,
     :func:`~behaviors.mop.turning.turning`) is not taken while the performer ``rests``: the
-    input's turning since the gesture began, ``turn``, lies :data:`REST_BENT` or further from
-    ``bent`` while under :data:`UNTURNED`, or :data:`REST_TURNED` or further, whole turns aside."""
+    input's turning since the gesture began, ``turn``, is under :data:`UNTURNED` and lies
+    :data:`REST_BENT` or further from ``bent``, whole turns aside."""
     off = abs((bent - turn + math.pi) % (2.0 * math.pi) - math.pi)
-    return REST_BENT > 0 and rests and (abs(turn) < UNTURNED and off >= REST_BENT
-                                        or off >= REST_TURNED)
+    return REST_BENT > 0 and rests and abs(turn) < UNTURNED and off >= REST_BENT
