@@ -109,6 +109,9 @@ WAIT_AHEAD = 0.06
 #: gesture began is under :data:`UNTURNED` where its template's own turning at the followed
 #: state lies this far (radians, whole turns aside) from the input's (:func:`bent_rest`; 0: never).
 REST_BENT = 0.5
+#: ... or, while under this (radians), :data:`REST_TURNED` or further.
+REST_UNTURNED = 0.5
+REST_TURNED = 1.2
 
 
 def straight(path: np.ndarray) -> bool:
@@ -186,4 +189,5 @@ def bent_rest(rests: bool, bent: float, turn: float) -> bool:
     input's turning since the gesture began, ``turn``, is under :data:`UNTURNED` and lies
     :data:`REST_BENT` or further from ``bent``, whole turns aside."""
     off = abs((bent - turn + math.pi) % (2.0 * math.pi) - math.pi)
-    return REST_BENT > 0 and rests and abs(turn) < UNTURNED and off >= REST_BENT
+    return REST_BENT > 0 and rests and (abs(turn) < UNTURNED and off >= REST_BENT
+                                        or abs(turn) < REST_UNTURNED and off >= REST_TURNED)
