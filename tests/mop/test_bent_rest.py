@@ -45,11 +45,15 @@ def test_the_group_takes_nothing_at_rest_on_a_stroke_as_its_followers_alone():
 
 
 def test_a_take_at_rest_is_judged_by_the_turning_of_its_template_against_the_input():
-    # traced: the walk wrist at 0.54 of it has turned 0.77 rad, the getup's stroke 0.03. Only
-    # a straight input is judged: a true getup re-taken in its wait read 3.46 against its
-    # template's 1.22 (the wait's jitter turns the input; held-out seed 105, 1x)
+    # traced: the walk wrist at 0.54 of it has turned 0.77 rad, the getup's stroke 0.03; the
+    # roll wrist at 0.25 of it -2.07, a mirrored square's last side -0.41 (held-out seed 103,
+    # twenty templates, 1.4x: its last 2 valid ticks). Only a nearly straight input is judged:
+    # a true getup re-taken in its wait read 3.46 against its template's 1.22 (the wait's
+    # jitter turns the input; seed 105, 1x), a true punch on its return -3.08 against 0 (102)
     assert bends.bent_rest(True, 0.77, 0.03)
+    assert bends.bent_rest(True, -2.07, -0.41)
     assert not bends.bent_rest(True, 0.77, 0.60)
     assert not bends.bent_rest(True, 1.22, 3.46)
+    assert not bends.bent_rest(True, 0.0, -3.08)
     assert not bends.bent_rest(False, 0.77, 0.03)
     assert not bends.bent_rest(True, 2.0 * np.pi + 0.1, 0.0)   # whole turns aside
