@@ -59,12 +59,16 @@ bench/follow_seeds.py --sections=sized,unrelated,sequences``: own strokes told v
 worst 0.168 -> 0.155, mean 0.135 -> 0.111 (104 0.168 -> 0.110, 103 0.154 -> 0.125, 106 0.134 ->
 0.108, 101 0.093 -> 0.063); 107-112 worst 0.161 -> 0.148, mean 0.126 -> 0.117 (110 0.161 ->
 0.120, 107 0.106 -> 0.091); every sized, unrelated and sequences figure identical.
-Measured and not kept: the same at rest whatever the input's turning, where the template's lies
-1.2 rad or more from it (the roll wrist taken after a mirrored square, at -2.07 against -0.41:
-103's mirrored square 0.1030 -> 0.0974, unrelated told and sequences on 106 better), but sized
-102 0.9036 -> 0.9019 and 105 0.8989 -> 0.8988: a true punch at 0.7x re-taken on its return
-(its input turned 3.1 rad, its followed state lagging before the turn back) and a true getup
-re-taken in its wait (its jitter turned the input 3.46 rad against 1.22). Nor a driving action
+Nor, while the input's turning is under :data:`REST_UNTURNED`, where its template's lies
+:data:`REST_TURNED` or more from it: the roll wrist taken after a mirrored square (at 0.25 of
+it, -2.07 against -0.41; twenty templates, 1.4x) no longer drives the square's last 2 ticks:
+103's mirrored square 0.1030 -> 0.0974 (unrelated worst on 101-106 0.0981, within 0.10); every
+other figure of both benches as with the first rule alone.
+Measured and not kept: that whatever the input's turning: also unrelated told and sequences on
+106 better, but sized 102 0.9036 -> 0.9019 and 105 0.8989 -> 0.8988: a true punch at 0.7x
+re-taken on its return (its input turned 3.1 rad, its followed state lagging before the turn
+back) and a true getup re-taken in its wait (its jitter turned the input 3.46 rad against
+1.22): a large turning of the input is no measure of its path. Nor a driving action
 shown while the input's turning lies 0.8 rad or more from its template's near the followed
 state (the mirrored square's punch ankle one tick less per draw, 0.1030 -> 0.0964): sized 103
 0.9179 -> 0.8993 (the input's turning drifts from its template's on real motion).
@@ -109,8 +113,9 @@ WAIT_AHEAD = 0.06
 #: gesture began is under :data:`UNTURNED` where its template's own turning at the followed
 #: state lies this far (radians, whole turns aside) from the input's (:func:`bent_rest`; 0: never).
 REST_BENT = 0.5
-#: ... or, while under this (radians), :data:`REST_TURNED` or further.
+#: ... or, while the input's turning is under this (radians), ...
 REST_UNTURNED = 0.5
+#: ... where the template's lies this far or further from it.
 REST_TURNED = 1.2
 
 
@@ -187,7 +192,8 @@ def bent_rest(rests: bool, bent: float, turn: float) -> bool:
     """Whether a new action followed at a state whose template has turned ``bent`` (radians,
     :func:`~behaviors.mop.turning.turning`) is not taken while the performer ``rests``: the
     input's turning since the gesture began, ``turn``, is under :data:`UNTURNED` and lies
-    :data:`REST_BENT` or further from ``bent``, whole turns aside."""
+    :data:`REST_BENT` or further from ``bent``, or under :data:`REST_UNTURNED` and
+    :data:`REST_TURNED` or further, whole turns aside."""
     off = abs((bent - turn + math.pi) % (2.0 * math.pi) - math.pi)
     return REST_BENT > 0 and rests and (abs(turn) < UNTURNED and off >= REST_BENT
                                         or abs(turn) < REST_UNTURNED and off >= REST_TURNED)

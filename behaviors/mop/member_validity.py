@@ -59,7 +59,8 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
     its limit, -inf for never), into
     ``straight``; and, into ``ok`` as well, whether a new best is not taken while the member
     rests (``rest``) on a straight stroke where its template has turned (:func:`bends.bent_rest
-    <behaviors.mop.bends.bent_rest>`; ``rest_bent``: its limit, 0 for never). The same
+    <behaviors.mop.bends.bent_rest>`; ``rest_bent``: its limit, 0 for never; ``rest_unturned``,
+    ``rest_turned``: its second). The same
     operations in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi
     for i in range(x.shape[0]):
