@@ -47,9 +47,36 @@ any state before :data:`STRAIGHT_TO`: true figure eights at 1.4x 3-4 ticks at 0.
 unrelated (103's mirrored square 0.1030 too) and sequences figure identical.
 ``bench/follow_quality.py``: held-out own strokes told max 0.116 -> 0.093 (within its 0.10),
 every other figure identical.
+
+Such a stroke may end where another template turns: the held-out walk wrist drifts 0.5-0.66 rad
+to 0.43 of it and turns back (its turning 0.77 rad at 0.51-0.54), and a stroke along the getup's
+first direction ended there took it 7-20 samples into the rest (5-10 ticks a draw). Not taking
+any action at rest cost true ones taken in their own waits (sized valid after 30% on seed 104
+0.9099 -> 0.9066). So only while the input has not turned (:data:`UNTURNED`) and its template's
+own turning at the followed state lies :data:`REST_BENT` from the input's is a new action not
+taken at rest (:func:`bent_rest`; follower and group alike). ``OPENBLAS_NUM_THREADS=1
+bench/follow_seeds.py --sections=sized,unrelated,sequences``: own strokes told valid 101-106
+worst 0.168 -> 0.155, mean 0.135 -> 0.111 (104 0.168 -> 0.110, 103 0.154 -> 0.125, 106 0.134 ->
+0.108, 101 0.093 -> 0.063); 107-112 worst 0.161 -> 0.148, mean 0.126 -> 0.117 (110 0.161 ->
+0.120, 107 0.106 -> 0.091); every sized, unrelated and sequences figure identical.
+Nor, while the input's turning is under :data:`REST_UNTURNED`, where its template's lies
+:data:`REST_TURNED` or more from it: the roll wrist taken after a mirrored square (at 0.25 of
+it, -2.07 against -0.41; twenty templates, 1.4x) no longer drives the square's last 2 ticks:
+103's mirrored square 0.1030 -> 0.0974 (unrelated worst on 101-106 0.0981, within 0.10); every
+other figure of both benches as with the first rule alone.
+Measured and not kept: that whatever the input's turning: also unrelated told and sequences on
+106 better, but sized 102 0.9036 -> 0.9019 and 105 0.8989 -> 0.8988: a true punch at 0.7x
+re-taken on its return (its input turned 3.1 rad, its followed state lagging before the turn
+back) and a true getup re-taken in its wait (its jitter turned the input 3.46 rad against
+1.22): a large turning of the input is no measure of its path. Nor a driving action
+shown while the input's turning lies 0.8 rad or more from its template's near the followed
+state (the mirrored square's punch ankle one tick less per draw, 0.1030 -> 0.0964): sized 103
+0.9179 -> 0.8993 (the input's turning drifts from its template's on real motion).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -82,6 +109,14 @@ GROWN_STRAIGHT = True
 WAITS = 0.3
 #: ... within this (progress) of where the wait began.
 WAIT_AHEAD = 0.06
+#: A new action is not taken while the performer rests and the input's turning since the
+#: gesture began is under :data:`UNTURNED` where its template's own turning at the followed
+#: state lies this far (radians, whole turns aside) from the input's (:func:`bent_rest`; 0: never).
+REST_BENT = 0.5
+#: ... or, while the input's turning is under this (radians), ...
+REST_UNTURNED = 0.5
+#: ... where the template's lies this far or further from it.
+REST_TURNED = 1.2
 
 
 def straight(path: np.ndarray) -> bool:
@@ -151,3 +186,14 @@ def unturned(before: float, turn: float) -> bool:
     shown: the input's turning since the gesture began, ``turn`` (radians), is under
     :data:`UNTURNED`."""
     return before > 0.0 and abs(turn) < UNTURNED
+
+
+def bent_rest(rests: bool, bent: float, turn: float) -> bool:
+    """Whether a new action followed at a state whose template has turned ``bent`` (radians,
+    :func:`~behaviors.mop.turning.turning`) is not taken while the performer ``rests``: the
+    input's turning since the gesture began, ``turn``, is under :data:`UNTURNED` and lies
+    :data:`REST_BENT` or further from ``bent``, or under :data:`REST_UNTURNED` and
+    :data:`REST_TURNED` or further, whole turns aside."""
+    off = abs((bent - turn + math.pi) % (2.0 * math.pi) - math.pi)
+    return REST_BENT > 0 and rests and (abs(turn) < UNTURNED and off >= REST_BENT
+                                        or abs(turn) < REST_UNTURNED and off >= REST_TURNED)

@@ -69,7 +69,8 @@ class GroupRules:
                 self._bounds, self._ti, self.forward.mean, self._turns, self._turn_steps,
                 self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok,
                 self._before_bend, bends.UNTURNED, self._bend_hidden, self._waits, self._source,
-                bends.STRAIGHT_TO if bends.GROWN_STRAIGHT else -np.inf, self._straight)
+                bends.STRAIGHT_TO if bends.GROWN_STRAIGHT else -np.inf, self._straight,
+                self._m_rest, bends.REST_BENT, bends.REST_UNTURNED, bends.REST_TURNED)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

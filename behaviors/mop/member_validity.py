@@ -39,10 +39,12 @@ _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 
 @compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
                    _F1, numba.intp, numba.float64, _B1, _F1, numba.float64, _B1, _F1, _F1,
-                   numba.float64, _B1), *_CALLS_INTO)
+                   numba.float64, _B1, _B1, numba.float64, numba.float64, numba.float64),
+          *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
            mean, turns, step, limit, reach, first_steps, ok, before, unturned, hidden, waits,
-           source, straight_to, straight) -> None:
+           source, straight_to, straight, rest, rest_bent, rest_unturned,
+           rest_turned) -> None:
     """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
     (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
     ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
@@ -55,7 +57,11 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
     :func:`bends.waits <behaviors.mop.bends.waits>`; :func:`bends.unspared
     <behaviors.mop.bends.unspared>`: ``source`` (S,), each state's progress; ``straight_to``:
     its limit, -inf for never), into
-    ``straight``. The same operations in the same order as the follower's own."""
+    ``straight``; and, into ``ok`` as well, whether a new best is not taken while the member
+    rests (``rest``) on a straight stroke where its template has turned (:func:`bends.bent_rest
+    <behaviors.mop.bends.bent_rest>`; ``rest_bent``: its limit, 0 for never; ``rest_unturned``,
+    ``rest_turned``: its second). The same
+    operations in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi
     for i in range(x.shape[0]):
         hidden[i] = False
@@ -80,6 +86,10 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
             least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
         ok[i] = least <= limit[i]
+        if rest_bent > 0 and rest[i]:
+            off_c = abs((turns[off + c] - turn[i] + pi) % two_pi - pi)
+            ok[i] = ok[i] and not (abs(turn[i]) < unturned and off_c >= rest_bent
+                                   or abs(turn[i]) < rest_unturned and off_c >= rest_turned)
         hidden[i] = before[off + c] > 0.0 and abs(turn[i]) < unturned
         g = lo + min(mean[k], n - 1.0)
         j = int(g)

@@ -342,9 +342,13 @@ class Recognition:
             # where the held-out walk wrist turns back took it 7-20 samples into the rest, own
             # strokes told 104 0.219 -> 0.144, 110 0.190 -> 0.149; but sized valid after 30% on
             # 104 0.9099 -> 0.9066: true getup and walk wrists are taken in their own waits)
+            # ... nor while the performer rests on a straight stroke where its template has
+            # turned (bends.bent_rest)
+            bent = self._turn is not None and bends.bent_rest(
+                rests, float(self._turn[int(g[bi])]), self._turn_in)
             ok = ok and not self._drifts(bi) and (
                 self._acquired == bi or (leads and turned and not slow and not back
-                                         and not shares))
+                                         and not shares and not bent))
             # (blocked: taken at a crawl at a small size, not driving)
             blocked = (self._acquired != bi and bool(self._engaged[bi])
                        and self._size[bi] < BLOCKED_SIZE and self._crawl > 0)
