@@ -43,7 +43,7 @@ at full stops, 0.03-0.12, the follower ahead of its performer); with the growth 
 of them, as the circles (before the 30% the targets count). ``bench/follow_seeds.py
 --sections=sized,unrelated,sequences``: twenty templates' longest wrong run 107-112 3/6/3/4/5/3
 -> 3/5/3/2/4/2, 101-106 4/5/3/2/2/4 -> 4/3/3/2/2/4; every other figure equal.
-``bench/follow_quality.py``: FQ.
+``bench/follow_quality.py``: every figure equal.
 """
 
 from __future__ import annotations
