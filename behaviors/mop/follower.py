@@ -53,7 +53,8 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
             path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
             reversal.reversal_size, size_probe.probe_allowed, size_probe.take_probe,
-            fresh_refusal.refuse, speed_profile.outpaces, halts.halts)
+            fresh_refusal.refuse, speed_profile.outpaces, speed_profile.turns_on,
+            halts.halts)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,

@@ -68,11 +68,18 @@ class Validity:
             self.sigma ** 2 * self.dim, float(self.dim), held, not straight))
         self._overran_k = k if out else -1
         # ... nor while it waits where its template slows and the input keeps its speed, at this
-        # sample and the one before (speed_profile.outpaces; not counted as an overrun)
+        # sample and the one before (speed_profile.outpaces; not counted as an overrun), or
+        # the input goes on off the way it turns (speed_profile.turns_on, this sample alone)
         if out or len(self._tempo_past) < speed_profile.BACK + 1:
             return out
         then, x_then, _ = self._tempo_past[-1]
-        return self._outpaces(k, g[k] - lo, x, 0) and self._outpaces(k, then[k], x_then, 1)
+        if self._outpaces(k, g[k] - lo, x, 0) and self._outpaces(k, then[k], x_then, 1):
+            return True
+        past = self._tempo_past
+        return bool(speed_profile.turns_on(
+            b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim), self._first_z[k],
+            self._anchor, x, past[-speed_profile.RECENT][1], past[-speed_profile.BACK][1],
+            float(g[k] - lo), float(self._size[k]), float(past[-1][2][k]), self.sigma))
 
     def _outpaces(self, k: int, g: float, x: np.ndarray, ago: int) -> bool:
         """:func:`behaviors.mop.speed_profile.outpaces` for template ``k`` (bank index) at the
