@@ -45,7 +45,9 @@ turned under 0.3 rad, each span walked at 0.05 / 0.15 m/s or more): 22 / 24 / 40
 / 33; contact misses 32 -> 16 / 9 (loops contact 4 -> 1 / 0, fast 28 -> 15 / 8), but still/moving
 29 -> 48 / 48 (the charges arrive before the main stands: the bully's speed beside its still
 main 0.27 -> 0.15 m/s on seeds 4 slow, 5 fast, 43 fast, 131 slow) and orbit 21 -> 22 / 28
-(loops 4 -> 8 / 12). Not kept: the contact a raise restores is paid in the still/moving ratio.
+(loops 4 -> 8 / 12). The cap raised instead by the closing share of the live distance beyond
+the moment's (what close_on_touch adds): 36 / 71 / 65, contact over on every kind (49), orbit
+75. Not kept: the contact a raise restores is paid in the still/moving ratio.
 
 Where a charge goes round its main. Within 0.1 m the bully goes round it at 0.74-0.93 rad/s (slow
 paths of seeds 41, 134, 135, 302, 306; its designer 0.20-0.35), in charges, from the drift
