@@ -3,11 +3,11 @@ does per step (the compiled step, step_kernel, repeats it to the last bit).
 
 The paper's loop (section 4.1), ``e = BestMatch(...); newMovement = Generate(e)``, in stages:
 BestMatch's choice between situation and coherence (4.3.3), with a demonstrated charge kept
-whole; General Trajectory Generation (4.4.1: the step toward the target's place relative to
-the main); Detail Incorporation (4.4.2: the linear smooth, the texture governor and the
-patch's demonstrated detail, then the table and the other characters: step_detail.py); the
-look and the new sample pair's features (4.2) into the search windows (step_senses.py). Units:
-seconds, table metres, radians.
+whole (step_match.py); General Trajectory Generation (4.4.1: the step toward the target's
+place relative to the main); Detail Incorporation (4.4.2: the linear smooth, the texture
+governor and the patch's demonstrated detail, then the table and the other characters:
+step_detail.py); the look and the new sample pair's features (4.2) into the search windows
+(step_senses.py). Units: seconds, table metres, radians.
 """
 
 from __future__ import annotations
@@ -15,16 +15,16 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.character import FOLLOW_SHARE
-from behaviors.puppet_master.darts import dart_goes_on, less_inward
+from behaviors.puppet_master.darts import less_inward
 from behaviors.puppet_master.generation import (capped, less_approach, mean_capped, share_around,
                                                 step_around, target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
 from behaviors.puppet_master.step_charge import close_on_touch
-from behaviors.puppet_master.step_detail import StepDetail
+from behaviors.puppet_master.step_match import StepMatch
 from behaviors.puppet_master.table_boundary import fit_target
 
 
-class GenerationStep(StepDetail):
+class GenerationStep(StepMatch):
     """The generation step of :class:`engine.Reactor` (its state: see Reactor.start)."""
 
     def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
@@ -42,49 +42,6 @@ class GenerationStep(StepDetail):
         self.pose = (rx, ry, look)
         self._last_step = (sx, sy)
         return g, rx, ry, look
-
-    def _best_match(self, mx: float, my: float) -> int:
-        """BestMatch (section 4.3): the training index to generate from (the sample after
-        the best window; sets ``source``, ``last_choice`` and the charge kept whole)."""
-        b = self.behavior
-        # BestMatch over the windows ending at the previous step
-        js, cost_s = self.situation.best()
-        jc, cost_c = self.coherence.best()
-        use_c = self.balancer.choose(cost_s, cost_c)
-        target = (jc if use_c else js) + 1
-        self.last_choice = "coherence" if use_c else "situation"
-        # a charge the match has entered is kept whole to the end of its push
-        # (demonstrated.charges): the bully's matches joined charges partway and left them within
-        # a few steps (14 jumps in 26 steps), so it went 9-14 cm short of its main while the
-        # matched moments touched (contact 0.02-0.08 against 0.157 on all nine unseen paths);
-        # entered in its run-up only (demonstrated.charge_entries: joined in its push, a push
-        # followed another back to back)
-        self._charge_ended = False
-        rx, ry, _ = self.pose
-        mxp, myp = self.main_motion.x, self.main_motion.y
-        if 0 <= self.source < self._dart_end and math.hypot(
-                rx - mxp, ry - myp) > b.distance[self.source] and dart_goes_on(
-                self._main_recent, b.dart_span, b.span_approach[self.source + 1], self.dt, mx,
-                my, rx - mxp, ry - myp):
-            # a dart the match has entered is kept whole to its bottom while the friend is
-            # farther out than its moment (darts.py: why; the figures at _trajectory's dart)
-            self.source = target = self.source + 1
-            self.last_choice = "dart"
-            return target
-        self._dart_end = b.dart_end[target]
-        if 0 <= self.source < self._charge_end:
-            target = self.source + 1
-            self.last_choice = "charge"
-        else:
-            self._charge_ended = self._charge_end >= 0   # its push has ended (see _detail)
-            self._charge_end = b.charge_end[target]
-            if self._charge_end >= 0:
-                # with the texture of the charge itself: a patch begun at a slower moment
-                # turned its steps by 0.7-0.9 rad RMS (0.5 in the demonstration's fast
-                # moments). Measured: 307 -> 308 of 360 on seeds 0-2, seed 7 103 -> 104
-                self.patch.restart()
-        self.source = target
-        return target
 
     def _trajectory(self, target: int, mx: float, my: float,
                     md: float) -> tuple[float, float]:

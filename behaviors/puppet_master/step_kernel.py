@@ -21,6 +21,8 @@ any of these must be made here too:
 - features: EntityMotion.step, relative_pose, situation_row, since_step, since_row, room_row,
   coherence_row
 - darts (darts_kernel): dart_goes_on, span_approach, less_inward
+- the look and the pair's motion (step_senses_kernel): desired_look, EntityMotion.step,
+  relative_pose
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
@@ -39,12 +41,14 @@ import numba
 import numpy as np
 
 from behaviors.puppet_master import (apart, character, darts, darts_kernel,
-                                     generation_kernel, step_math, table_boundary)
+                                     generation_kernel, step_math, step_senses_kernel,
+                                     table_boundary)
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
     keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, no_deeper,
     out_of_way, share_around, step_around, table_reach, turn_between, turn_off_edges)
 from behaviors.puppet_master.darts_kernel import dart_goes_on, less_inward
+from behaviors.puppet_master.step_senses_kernel import _motion, desired_look, relative_pose
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -84,20 +88,9 @@ T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_T
     T_SPAN_APPROACH = range(24)
 
 PLACE_WORLD = 1.0
-GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
 
 _f8 = numba.float64
 _F1, _F2, _I1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1]
-
-
-@compiled(_f8(_f8, _f8, _f8, _f8, numba.boolean, _f8, _f8, _f8))
-def desired_look(frame: float, angle: float, still_frame: float, still_angle: float,
-                 moving: bool, move_dir: float, md: float, gaze_base: float) -> float:
-    """look.desired_look."""
-    if frame == NORMALISED and not moving:
-        frame, angle = still_frame, still_angle
-    base = gaze_base if frame == GAZE else md if frame == RELATIVE else move_dir
-    return base + angle
 
 
 @compiled(_f8(_f8, _f8, _f8), step_math)
@@ -119,30 +112,6 @@ def _update(s: np.ndarray, ms: int, z: int, value: float, target: float, gain: f
     s[ms] += (value - s[ms]) * decay
     s[z] += gain * (target - s[ms]) / target
     s[z] = _min(_max(s[z], z_min), z_max)
-
-
-@compiled(numba.types.UniTuple(_f8, 3)(_F1, numba.int64, _f8, _f8, _f8, _f8), step_math)
-def _motion(s: np.ndarray, at: int, x: float, y: float, rate_hz: float,
-            min_speed: float) -> tuple[float, float, float]:
-    """features.EntityMotion.step on s[at: at + 3] (x, y, move)."""
-    dx, dy = x - s[at], y - s[at + 1]
-    s[at], s[at + 1] = x, y
-    speed = hypot(dx, dy) * rate_hz
-    prev = s[at + 2]
-    if speed >= min_speed:
-        s[at + 2] = math.atan2(dy, dx)
-    d = remainder(s[at + 2] - prev, math.tau)
-    return speed, s[at + 2], (math.pi if d == -math.pi else d)
-
-
-@compiled(numba.types.UniTuple(_f8, 3)(_f8, _f8, _f8, _f8, _f8, _f8), step_math)
-def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
-                  rd: float) -> tuple[float, float, float]:
-    """features.relative_pose."""
-    c, s = math.cos(md), math.sin(md)
-    dx, dy = rx - mx, ry - my
-    d = remainder(rd - md, math.tau)
-    return c * dx + s * dy, -s * dx + c * dy, (math.pi if d == -math.pi else d)
 
 
 @compiled(numba.boolean(_F2, _I1, _f8, _f8, _f8), step_math)
@@ -188,7 +157,7 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
 @compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
                       _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
           step_math, generation_kernel, table_boundary, apart, darts_kernel, darts,
-          character)
+          character, step_senses_kernel)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
