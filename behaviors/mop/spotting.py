@@ -364,6 +364,21 @@ class GestureSpotting(GestureEnd):
             # comes 2-10 samples into its eased start. Measured and not kept: the departure at
             # 0.6 of accept_distance, bench/follow_quality.py --sections=sequences, tuned and
             # held-out 101-103: no within-20% share moved, a tuned figure eight 0.284 -> 0.428.)
+            # Measured and not kept: the new attempt begun at the end itself (where a valid action
+            # reached ``end``, not a tempo or return end; anchored there) and again at each sample
+            # the input still comes closer to the ended template's last point (anchored there),
+            # the ended action shown at its end until the input moves on or another drives (it
+            # drives up to END_GRACE samples). bench/follow_quality.py, tuned / held-out: twenty
+            # within 20% 0.406 / 0.375 -> 0.375 / 0.406 (six unchanged), sized and pauses
+            # unchanged; follow_seeds.py 101-106: twenty within 20% mean 0.281 -> 0.323 (every
+            # seed up), six 0.104 -> 0.125; but after a gesture told worst 0.072 -> 0.089 (a
+            # wander 0.031 -> 0.037), tuned twenty by the reach + 0.05 0.50 -> 0.469, held-out
+            # longest wrong run 4 -> 6 (seeds 4/5/3/2/2/4 -> 6/5/3/6/3/4). Shown only until
+            # another template engages: progress RMSE p90 at 0.7-1.4x 0.040 -> 0.113 (the
+            # performer's last samples engage others). The tuned roll ankle that went late (0.189
+            # -> 0.208) began after a figure eight the follower ended 4 samples before its
+            # performer; waiting for the input to stand (ARRIVE_RADIUS) first did not bring it
+            # back and lost a held-out gesture.
             anchor, near = self._next_anchor(x, bi), self._end_near
             self._restart_here(x, forward, offset)
             self._anchor = anchor
