@@ -35,7 +35,8 @@ from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG
-from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, input_reversal, reversal_size
+from behaviors.mop.reversal import (REVERSAL_LARGER_AHEAD, REVERSAL_UNDO_SAMPLES, input_reversal,
+                                    reversal_size, reversal_way, went_on)
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
@@ -109,6 +110,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
+    rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -155,11 +157,22 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST
                   and (rest or (drive_peak[i] - drive_from[i] >= PAUSE_CARRY
                                 and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
-        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
+        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes) ...
+        undone = False   # ... or went on past the last reversal's turn: its sizes undone
         if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]
+            if rev_age[i] >= 0:
+                rev_age[i] += 1
+                undone = went_on(dxu, rev_turn[i], rev_way[i], m[23])
+                if undone or rev_age[i] >= REVERSAL_UNDO_SAMPLES:
+                    rev_age[i] = -1
             turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
+            if turned:
+                for c in range(d):
+                    rev_turn[i, c] = tr[c]
+                reversal_way(buf, i, tu, rev_way[i])
+                rev_age[i] = 0
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 prefetch_ahead(states, flat, ti, mean, k + AHEAD, before, after, d, n_states)
@@ -183,6 +196,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
+            if undone:
+                num[k] -= rev_undo[k]
+            was = num[k]
             # ... and a reversal's (_reversal_sizes), but not the strained action driving's
             # (Refusal._recent_dist2)
             if turned and reversal_at[gs] >= 0 and not (
@@ -196,6 +212,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     sr = 0.0   # a landmark beyond it sizes smaller only
                 if sr > 0.0:
                     num[k] = sr * (den[k] + t[2]) - t[2]
+            if turned:
+                rev_undo[k] = num[k] - was
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0
