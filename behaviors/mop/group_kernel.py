@@ -24,8 +24,8 @@ import numpy as np
 import behaviors.mop.compiled
 from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_layout,
                            group_steps, holding, invariance, member_validity, members, misfit_size,
-                           path_kernel, reversal, rivals, shape_lead, size_probe, spotting, tempo,
-                           threshold, threshold_kernel, validity)
+                           path_kernel, reversal, rivals, shape_lead, size_probe, size_sums,
+                           spotting, tempo, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
@@ -34,15 +34,14 @@ from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, 
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import ALONG
-from behaviors.mop.reversal import (REVERSAL_LARGER_AHEAD, REVERSAL_UNDO_SAMPLES, input_reversal,
-                                    reversal_size, reversal_way, went_on)
+from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, reversal_size, reversal_step
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
 from behaviors.mop.size_probe import probe_allowed, take_probe
+from behaviors.mop.size_sums import estimate_sums
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
@@ -52,7 +51,7 @@ from behaviors.kernel_cache import compiled
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, fresh_refusal, group_layout,
                group_steps, holding, invariance, member_validity, members, misfit_size, path_kernel,
-               reversal, rivals, shape_lead, size_probe, spotting, tempo, threshold,
+               reversal, rivals, shape_lead, size_probe, size_sums, spotting, tempo, threshold,
                threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
@@ -162,17 +161,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]
-            if rev_age[i] >= 0:
-                rev_age[i] += 1
-                undone = went_on(dxu, rev_turn[i], rev_way[i], m[23])
-                if undone or rev_age[i] >= REVERSAL_UNDO_SAMPLES:
-                    rev_age[i] = -1
-            turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
-            if turned:
-                for c in range(d):
-                    rev_turn[i, c] = tr[c]
-                reversal_way(buf, i, tu, rev_way[i])
-                rev_age[i] = 0
+            undone, turned = reversal_step(buf, nbuf, i, x, anchor[i], tu, m[23], dxu, tr,
+                                           rev_turn, rev_way, rev_age)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 prefetch_ahead(states, flat, ti, mean, k + AHEAD, before, after, d, n_states)
@@ -215,22 +205,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if turned:
                 rev_undo[k] = num[k] - was
             if scaled:   # PerformanceFrame._estimate_size
-                qr = 0.0
-                qq = 0.0
-                qt = 0.0
-                rt = 0.0
-                tt = 0.0
-                for c in range(d):
-                    seg = nrow[rel0 + c] - row[rel0 + c]
-                    q = row[rel0 + c] + frac * seg
-                    qr += q * dxu[c]
-                    qq += q * q
-                    qt += q * seg
-                    rt += dxu[c] * seg
-                    tt += seg * seg
-                if ALONG < 1.0 and tt > 1e-12:   # invariance.ALONG: less along the path
-                    qr -= (1.0 - ALONG) / tt * qt * rt
-                    qq -= (1.0 - ALONG) / tt * qt * qt
+                qr, qq = estimate_sums(row, nrow, frac, rel0, dxu, d)
                 num[k] += qr
                 den[k] += qq
                 least[k] = max(least[k], far * t[4])

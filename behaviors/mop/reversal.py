@@ -232,3 +232,30 @@ def went_on(r: np.ndarray, turn: np.ndarray, way: np.ndarray, move2: float) -> b
         along += w * way[c]
         w2 += w * w
     return along > math.sqrt(move2) and along > REVERSAL_UNDO_COS * math.sqrt(w2)
+
+
+@compiled(numba.types.UniTuple(numba.boolean, 2)(
+    numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
+    numba.float64[::1], numba.float64[::1], numba.float64, numba.float64[::1],
+    numba.float64[::1], numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1]))
+def reversal_step(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, anchor: np.ndarray,
+                  units: np.ndarray, move2: float, r: np.ndarray, out: np.ndarray,
+                  turn: np.ndarray, way: np.ndarray, age: np.ndarray) -> tuple[bool, bool]:
+    """Member ``i``'s reversal at this sample, for the group: whether the last one's sizes are
+    undone (the input ``r`` went on past its turn, :func:`went_on`, within
+    :data:`REVERSAL_UNDO_SAMPLES`) and whether the input reverses here (:func:`input_reversal`,
+    its turn in ``out``). In place per member: ``turn``, ``way`` (M, D: the last reversal's turn
+    and the way into it, units) and ``age`` (M,: samples since it, -1 when none is pending)."""
+    undone = False
+    if age[i] >= 0:
+        age[i] += 1
+        undone = went_on(r, turn[i], way[i], move2)
+        if undone or age[i] >= REVERSAL_UNDO_SAMPLES:
+            age[i] = -1
+    turned = input_reversal(buf, count, i, x, anchor, units, move2, out)
+    if turned:
+        for c in range(x.shape[1]):
+            turn[i, c] = out[c]
+        reversal_way(buf, i, units, way[i])
+        age[i] = 0
+    return undone, turned
