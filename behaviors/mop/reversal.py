@@ -46,7 +46,10 @@ REVERSAL_MOVE = 2.0
 #: .565 -> .978); the three lower from the right size put back a sample sooner (paused dance
 #: ankles, 102 1.000 -> .911, 103 .967 -> .885: progress ran on in the pause; 111 a size put
 #: back twice re-judged; with the size put back taken as judged, no second re-judge: 102 .8999,
-#: 103 .9164, 111 as before).
+#: 103 .9164, 111 as before). Also bench/follow_seeds.py --sections=sized,unrelated,sequences:
+#: sized worst 101-106 .8989 -> .9003, 103's progress RMSE median .0227 -> .0230, twenty
+#: templates within 20% 101 .375 -> .344, 105 .156 -> .188; bench/follow_quality.py: on track
+#: .8906 -> .8926, recognition from rest median .203 -> .215, bent shapes and pauses the same.
 REVERSAL_UNDO_SAMPLES = 6
 #: ... by more than :data:`REVERSAL_MOVE` still radii, at a cosine above this to that way. At 0.3
 #: a turn into a new stroke with some of the old way in it is undone: 108 .8906 -> .8800.
