@@ -118,6 +118,10 @@ class GroupArrays:
         # gesture's anchor less that point (shape_lead.TAKE_FROM_NEAREST; zero: none)
         self._end_near, self._end_nearing = np.zeros((m, dmax)), np.zeros(m, dtype=bool)
         self._take_shift = np.zeros((m, dmax))
+        # the last reversal's turn, the way into it and the samples since (-1: none pending;
+        # PerformanceFrame._reversal_sizes)
+        self._rev_turn, self._rev_way = np.zeros((m, dmax)), np.zeros((m, dmax))
+        self._rev_age = np.full(m, -1, dtype=np.intp)
         self._has_end = np.zeros(m, dtype=bool)
         # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
         self._unseen_x, self._unseen_last = np.zeros((m, dmax)), np.zeros((m, dmax))
@@ -140,7 +144,8 @@ class GroupArrays:
     #: Per-template state shared with the members (each follower's arrays are views of these).
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_least", "_judged", "_at_hold_end", "_reached", "_probe", "_fresh")
+                     "_least", "_judged", "_at_hold_end", "_reached", "_probe", "_fresh",
+                     "_rev_undo")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
     _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone",
                        "_attempt_from", "_once") + group_layout.SHAPE_LAGS
@@ -151,7 +156,8 @@ class GroupArrays:
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
                    "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
                    "_lagged", "_blocked", "_blocked_k", "_barred", "_freed", "_unseen_x",
-                   "_unseen_last", "_has_unseen", "_end_near", "_end_nearing", "_take_shift")
+                   "_unseen_last", "_has_unseen", "_end_near", "_end_nearing", "_take_shift",
+                   "_rev_turn", "_rev_way", "_rev_age")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

@@ -24,8 +24,8 @@ import numpy as np
 import behaviors.mop.compiled
 from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_layout,
                            group_steps, holding, invariance, member_validity, members, misfit_size,
-                           path_kernel, reversal, rivals, shape_lead, size_probe, spotting, tempo,
-                           threshold, threshold_kernel, validity)
+                           path_kernel, reversal, rivals, shape_lead, size_probe, size_sums,
+                           spotting, tempo, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
@@ -34,14 +34,14 @@ from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, 
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import ALONG
-from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, input_reversal, reversal_size
+from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, reversal_size, reversal_step
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
 from behaviors.mop.size_probe import probe_allowed, take_probe
+from behaviors.mop.size_sums import estimate_sums
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
@@ -51,7 +51,7 @@ from behaviors.kernel_cache import compiled
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, fresh_refusal, group_layout,
                group_steps, holding, invariance, member_validity, members, misfit_size, path_kernel,
-               reversal, rivals, shape_lead, size_probe, spotting, tempo, threshold,
+               reversal, rivals, shape_lead, size_probe, size_sums, spotting, tempo, threshold,
                threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
@@ -109,6 +109,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
+    rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -155,11 +156,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST
                   and (rest or (drive_peak[i] - drive_from[i] >= PAUSE_CARRY
                                 and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
-        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
+        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes) ...
+        undone = False   # ... or went on past the last reversal's turn: its sizes undone
         if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]
-            turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
+            undone, turned = reversal_step(buf, nbuf, i, x, anchor[i], tu, m[23], dxu, tr,
+                                           rev_turn, rev_way, rev_age)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 prefetch_ahead(states, flat, ti, mean, k + AHEAD, before, after, d, n_states)
@@ -183,6 +186,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
+            if undone:
+                num[k] -= rev_undo[k]
+            was = num[k]
             # ... and a reversal's (_reversal_sizes), but not the strained action driving's
             # (Refusal._recent_dist2)
             if turned and reversal_at[gs] >= 0 and not (
@@ -196,23 +202,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     sr = 0.0   # a landmark beyond it sizes smaller only
                 if sr > 0.0:
                     num[k] = sr * (den[k] + t[2]) - t[2]
+            if turned:
+                rev_undo[k] = num[k] - was
             if scaled:   # PerformanceFrame._estimate_size
-                qr = 0.0
-                qq = 0.0
-                qt = 0.0
-                rt = 0.0
-                tt = 0.0
-                for c in range(d):
-                    seg = nrow[rel0 + c] - row[rel0 + c]
-                    q = row[rel0 + c] + frac * seg
-                    qr += q * dxu[c]
-                    qq += q * q
-                    qt += q * seg
-                    rt += dxu[c] * seg
-                    tt += seg * seg
-                if ALONG < 1.0 and tt > 1e-12:   # invariance.ALONG: less along the path
-                    qr -= (1.0 - ALONG) / tt * qt * rt
-                    qq -= (1.0 - ALONG) / tt * qt * qt
+                qr, qq = estimate_sums(row, nrow, frac, rel0, dxu, d)
                 num[k] += qr
                 den[k] += qq
                 least[k] = max(least[k], far * t[4])

@@ -158,6 +158,7 @@ class GroupRules:
         self._lagged[rows] = False
         self._end_nearing[rows] = False
         self._take_shift[rows] = 0.0
+        self._rev_age[rows] = -1
         self._shape_n[rows] = 0.0
         self._taken_n[rows] = 0
         self._thr_ev[rows] = 0.0

@@ -171,7 +171,8 @@ import numpy as np
 
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_LARGER_AHEAD, REVERSAL_MOVE,
-                                    input_reversal, reversal_map, reversal_size)
+                                    REVERSAL_UNDO_SAMPLES, input_reversal, reversal_map,
+                                    reversal_size, reversal_way, went_on)
 from behaviors.mop.size_probe import PROBE_FLOOR, probe_allowed, take_probe
 
 INVARIANCES = ("scale", "offset", "none")
@@ -350,25 +351,40 @@ class PerformanceFrame:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
         template whose followed state ``gi`` has a reversal near (:func:`reversal_map`) takes
         the size that puts the input's reversal on it (:func:`reversal_size`), in place on the
-        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does."""
+        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does; those sizes
+        are undone when the input goes on past the turn the way it came (:func:`went_on`)."""
         recent = self._recent_x
-        if self.invariance != "scale" or len(recent) < 2 * REVERSAL_LAG:
+        if self.invariance != "scale":
             return
-        r = np.empty(self.dim)
+        r = (x - self._anchor) / self._units
+        if self._rev_age >= 0:   # the last reversal's sizes, undone if it was none
+            self._rev_age += 1
+            if went_on(r, self._rev_turn, self._rev_way, self._reversal_move2):
+                self._num -= self._rev_undo
+                self._rev_age = -1
+            elif self._rev_age >= REVERSAL_UNDO_SAMPLES:
+                self._rev_age = -1
+        if len(recent) < 2 * REVERSAL_LAG:
+            return
         buf = np.array(recent[-2 * REVERSAL_LAG:])[None]
         if not input_reversal(buf, np.array([len(recent)], dtype=np.intp), 0, x[None],
-                              self._anchor, self._units, self._reversal_move2, r):
+                              self._anchor, self._units, self._reversal_move2, self._rev_turn):
             return
+        reversal_way(buf, 0, self._units, self._rev_way)
+        self._rev_age = 0
+        before = self._num.copy()
         at = self._reversal_at[gi]
         lo, hi = self.scale_range
         for k in np.flatnonzero(at >= 0).tolist():
             if k == self._acquired and self._recent_dist2(k) > self._accept2:   # strained
                 continue
-            s = reversal_size(self._rel[at[k]], r, lo, hi, float(self._reversal_tol[k]))
+            s = reversal_size(self._rel[at[k]], self._rev_turn, lo, hi,
+                              float(self._reversal_tol[k]))
             if at[k] - gi[k] > REVERSAL_LARGER_AHEAD and s >= self._size[k]:   # smaller only
                 continue
             if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
                 self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
+        np.subtract(self._num, before, out=self._rev_undo)
 
     def _rejudge(self) -> None:
         """Templates whose size estimate moved by :data:`REJUDGE` since their recent likelihood

@@ -56,11 +56,11 @@ _RAD = len(MEMBER_RULES)
 #: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
 #: (:func:`conclude`, :func:`~behaviors.mop.group_kernel.update_templates`) take them.
 MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came", "_unseen_x",
-                  "_unseen_last", "_end_near", "_take_shift")
+                  "_unseen_last", "_end_near", "_take_shift", "_rev_turn", "_rev_way")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
                "_tempo_at", "_tempo_n", "_end_history_n", "_overran_k", "_walk_n", "_blocked",
-               "_blocked_k", "_barred", "_freed")
+               "_blocked_k", "_barred", "_freed", "_rev_age")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
                  "_drive_peak", "_peak", "_m_dim", "_walk", "_step_prev", "_step_last",
                  "_drive_leapt", "_bar_top", "_bar_sum", "_bar_kept")

@@ -29,24 +29,31 @@ REVERSAL_MOVE = 2.0
 # Nor read over validity.PAUSE_SAMPLES too: 108 .8987 -> .8981, 102 .9107 -> .9097, a 0.7x line
 # .478 -> .391, the apex of a turn reads as a rest over four samples. Nor with the sizes taken in
 # the samples before a rest's onset undone there: 108 .8983, the 1x square's pause still driven
-# by the line, which led it on evidence. Nor its sizes undone when, within 6 samples, the
-# input went on past the turn the way it came by REVERSAL_MOVE at a cosine above 0.7 (follower
-# and group kernel): held-out sized valid after 30% 101-112 .9118 .9036 .9179 .9099 .8989 .9003
-# / .9102 .8906 .9032 .9138 .9031 .9038 -> .9130 .9027 .9171 .9099 .9031 .9003 / .9112 .8906
-# .9067 .9138 .9027 .9038 (105's 1.2x dance ankle, 2.7 mm back read at 0.37 of it and sized
-# 1.22 -> 1.43, .565 -> .978); the three lower from the right size put back a sample sooner
-# (paused dance ankles, 102 1.000 -> .911, 103 .967 -> .885: progress ran on in the pause; 111
-# a size put back twice re-judged; with the size put back taken as judged, no second re-judge:
-# 102 .8999, 103 .9164, 111 as before). At a cosine above 0.3: a turn into a new stroke with some
-# of the old way in it undone, 108 .8906 -> .8800. Nor a reversal sizing a template where the
-# input moved back less than 0.25 sigma in its units at its size (RMS over its columns), with
-# the undo: 108's 0.7x cartwheel ankle 0 -> .949 (2.2 mm back by its turn 0.2 mm from its
-# first state, sized 1.63), bench/follow_seeds.py --sections=sized,unrelated,sequences 101-106
-# sized .9071 -> .9085 (each seed >= .90), 107-112 .9041 -> .9051, but 103 .9179 -> .9141, 107
-# .9102 -> .9099, 111 -> .9010, 112 -> .8986 (slow real turns: a 1x getup wrist .800 -> .492,
-# a 1.2x backflip ankle .750 -> .321), 101's twenty within 20% .375 -> .344; 0.175 / 0.35 sigma
-# 108 .8910 / .9037, 105 .9031 / .9094 with the undo (0.35: four draws lower there); larger
-# sizes only (no undo) still 111 .9031 -> .8989, 112 -> .9016.)
+# by the line, which led it on evidence. Nor a reversal sizing a template where the input moved
+# back less than 0.25 sigma in its units at its size (RMS over its columns), with the undo below:
+# 108's 0.7x cartwheel ankle 0 -> .949 (2.2 mm back by its turn 0.2 mm from its first state,
+# sized 1.63), bench/follow_seeds.py --sections=sized,unrelated,sequences 101-106 sized .9071 ->
+# .9085 (each seed >= .90), 107-112 .9041 -> .9051, but 103 .9179 -> .9141, 107 .9102 -> .9099,
+# 111 -> .9010, 112 -> .8986 (slow real turns: a 1x getup wrist .800 -> .492, a 1.2x backflip
+# ankle .750 -> .321), 101's twenty within 20% .375 -> .344; 0.175 / 0.35 sigma 108 .8910 /
+# .9037, 105 .9031 / .9094 with the undo (0.35: four draws lower there); larger sizes only (no
+# undo) still 111 .9031 -> .8989, 112 -> .9016.)
+#: The sizes a reversal gave are undone when, within this many samples after it, the input
+#: goes on past its turn the way it came (:func:`went_on`): it paused, or shook, and went on.
+#: Held-out sized valid after 30% 101-112 .9118 .9036 .9179 .9099 .8989 .9003 / .9102 .8906
+#: .9032 .9138 .9031 .9038 -> .9130 .9027 .9171 .9099 .9031 .9003 / .9112 .8906 .9067 .9138
+#: .9027 .9038 (105's 1.2x dance ankle, 2.7 mm back read at 0.37 of it and sized 1.22 -> 1.43,
+#: .565 -> .978); the three lower from the right size put back a sample sooner (paused dance
+#: ankles, 102 1.000 -> .911, 103 .967 -> .885: progress ran on in the pause; 111 a size put
+#: back twice re-judged; with the size put back taken as judged, no second re-judge: 102 .8999,
+#: 103 .9164, 111 as before). Also bench/follow_seeds.py --sections=sized,unrelated,sequences:
+#: sized worst 101-106 .8989 -> .9003, 103's progress RMSE median .0227 -> .0230, twenty
+#: templates within 20% 101 .375 -> .344, 105 .156 -> .188; bench/follow_quality.py: on track
+#: .8906 -> .8926, recognition from rest median .203 -> .215, bent shapes and pauses the same.
+REVERSAL_UNDO_SAMPLES = 6
+#: ... by more than :data:`REVERSAL_MOVE` still radii, at a cosine above this to that way. At 0.3
+#: a turn into a new stroke with some of the old way in it is undone: 108 .8906 -> .8800.
+REVERSAL_UNDO_COS = 0.7
 #: A template's reversal (its states as the input's samples, the sharpest of a run) is a
 #: landmark of the followed state from this many states behind it to this many ahead.
 #: Some lie in a wiggle of the first states, about 1 mm from the first (the figure eight's
@@ -196,3 +203,62 @@ def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float
         e = r[c] - s * q[c]
         e2 += e * e
     return s if e2 <= (tol * s) ** 2 else 0.0
+
+
+@compiled(numba.void(numba.float64[:, :, ::1], numba.intp, numba.float64[::1],
+                     numba.float64[::1]))
+def reversal_way(buf: np.ndarray, i: int, units: np.ndarray, out: np.ndarray) -> None:
+    """The way the input came into its reversal (:func:`input_reversal`'s motion before, over
+    ``buf[i]``'s rows, in ``units``), as a unit vector in ``out`` (d,)."""
+    lag = REVERSAL_LAG
+    s = buf.shape[1]
+    a, b = s - 2 * lag, s - lag
+    n = 0.0
+    for c in range(out.size):
+        out[c] = (buf[i, b, c] - buf[i, a, c]) / units[c]
+        n += out[c] * out[c]
+    n = math.sqrt(n)
+    for c in range(out.size):
+        out[c] = out[c] / n if n > 0.0 else 0.0
+
+
+@compiled(numba.boolean(numba.float64[::1], numba.float64[::1], numba.float64[::1],
+                        numba.float64))
+def went_on(r: np.ndarray, turn: np.ndarray, way: np.ndarray, move2: float) -> bool:
+    """Whether the input ``r`` (d,: from the anchor, in units) lies past a reversal's ``turn``
+    (the same) the ``way`` it came into it (unit vector), by more than ``sqrt(move2)`` and at a
+    cosine above :data:`REVERSAL_UNDO_COS` to that way: no reversal after all."""
+    along = 0.0
+    w2 = 0.0
+    for c in range(r.size):
+        w = r[c] - turn[c]
+        along += w * way[c]
+        w2 += w * w
+    return along > math.sqrt(move2) and along > REVERSAL_UNDO_COS * math.sqrt(w2)
+
+
+@compiled(numba.types.UniTuple(numba.boolean, 2)(
+    numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
+    numba.float64[::1], numba.float64[::1], numba.float64, numba.float64[::1],
+    numba.float64[::1], numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1]))
+def reversal_step(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, anchor: np.ndarray,
+                  units: np.ndarray, move2: float, r: np.ndarray, out: np.ndarray,
+                  turn: np.ndarray, way: np.ndarray, age: np.ndarray) -> tuple[bool, bool]:
+    """Member ``i``'s reversal at this sample, for the group: whether the last one's sizes are
+    undone (the input ``r`` went on past its turn, :func:`went_on`, within
+    :data:`REVERSAL_UNDO_SAMPLES`) and whether the input reverses here (:func:`input_reversal`,
+    its turn in ``out``). In place per member: ``turn``, ``way`` (M, D: the last reversal's turn
+    and the way into it, units) and ``age`` (M,: samples since it, -1 when none is pending)."""
+    undone = False
+    if age[i] >= 0:
+        age[i] += 1
+        undone = went_on(r, turn[i], way[i], move2)
+        if undone or age[i] >= REVERSAL_UNDO_SAMPLES:
+            age[i] = -1
+    turned = input_reversal(buf, count, i, x, anchor, units, move2, out)
+    if turned:
+        for c in range(x.shape[1]):
+            turn[i, c] = out[c]
+        reversal_way(buf, i, units, way[i])
+        age[i] = 0
+    return undone, turned
