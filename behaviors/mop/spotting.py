@@ -338,7 +338,7 @@ class GestureSpotting(GestureEnd):
                 # ended at its tempo: the end is where the input comes nearest its last point
                 self._end_x = x.copy()
             # where the input came nearest that point until it first went away from it
-            # (shape_lead.TAKE_FROM_NEAREST)
+            # (take_rule.TAKE_FROM_NEAREST)
             if self._end_nearing and near < np.sum((self._end_near - self._end_last) ** 2):
                 self._end_near = x.copy()
             else:

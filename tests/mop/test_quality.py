@@ -9,7 +9,7 @@ import pytest
 
 from bench.follow_quality import puck_follower, run, true_metrics
 from bench.motions import at_phase, performance, phase_of, raise_hold_return, unrelated_motions
-from behaviors.mop import shape_lead
+from behaviors.mop import shape_lead, take_rule
 from behaviors.mop.follower import ActionFollower
 from tests.mop.helpers import widened_mirrored
 
@@ -180,8 +180,8 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
     # they stay valid for those stretches; validity.stalls and tempo.crawls take part of
     # what they would: without crawls 0.121 with them, 0.251 without); all measured with the
-    # last samples' fit (shape_lead.TAKE_MISFIT2) lifted, which takes most of what they take
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)   # read at each step
+    # last samples' fit (take_rule.TAKE_MISFIT2) lifted, which takes most of what they take
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)   # read at each step
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
     assert np.mean(list(now.values())) <= 0.25, now
@@ -295,11 +295,11 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
     # instead of 1.2, refusal.py: 168 (177), 0.693 (0.718)); tempo.crawls and
     # validity.unjudged take part of what it took (before unjudged: 33 (47), 181 (198); without
     # crawls either: 44 (70), 257 (286)); with the take sizes up to 1.4 times the estimate
-    # (shape_lead.TAKE_SIZES), as here: 6 (12), 75 (84), 0.705 (0.728); up to 1.12, the
+    # (take_rule.TAKE_SIZES), as here: 6 (12), 75 (84), 0.705 (0.728); up to 1.12, the
     # default, they take part of it too: 6 (9), 73 (76)
     from behaviors.mop import validity
 
-    monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
+    monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     now = _tail_and_paused(gestures)
     monkeypatch.setattr(validity, "CARRY_FIRST", -1.0)
     plain = _tail_and_paused(gestures)

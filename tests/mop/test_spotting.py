@@ -12,7 +12,7 @@ import pytest
 from bench.follow_quality import puck_follower, run
 from bench.follow_sequences import wrong_valid
 from bench.motions import at_phase, back_to_back, performance, phase_of
-from behaviors.mop import shape_lead
+from behaviors.mop import shape_lead, take_rule
 from behaviors.mop.sharing import shared_until
 
 
@@ -447,9 +447,9 @@ def _ended_short_stream() -> tuple[dict, np.ndarray, list, np.ndarray]:
 def test_a_take_after_an_end_is_read_from_where_the_input_came_nearest_it(monkeypatch):
     # the follower reaches the dance's end 2.8 mm short of where the performer ends it; read
     # from that anchor, the jump's last samples stray 0.2-0.5 sigma^2 from its path (0.02-0.09
-    # from where it began) and its take is refused on every tick (shape_lead._fits_take). Read
+    # from where it began) and its take is refused on every tick (take_rule._fits_take). Read
     # also from where the input came nearest the dance's last point
-    # (shape_lead.TAKE_FROM_NEAREST): measured, the jump recognised at 0.37 of it (47 valid
+    # (take_rule.TAKE_FROM_NEAREST): measured, the jump recognised at 0.37 of it (47 valid
     # ticks); without, never
     templates, x, truth, prog = _ended_short_stream()
     g = "jump_left_ankle"
@@ -459,14 +459,14 @@ def test_a_take_after_an_end_is_read_from_where_the_input_came_nearest_it(monkey
         return [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
 
     now = hits()
-    monkeypatch.setattr(shape_lead, "TAKE_FROM_NEAREST", 0.0)
+    monkeypatch.setattr(take_rule, "TAKE_FROM_NEAREST", 0.0)
     plain = hits()
     assert now and now[0] <= 0.4 and len(now) >= 40, (now[:1], len(now))
     assert not plain, plain[:1]
 
 
 def test_a_group_reads_a_take_after_an_end_as_its_followers_alone():
-    # member_validity.takes' form of shape_lead.TAKE_FROM_NEAREST: every state equal (valid
+    # member_validity.takes' form of take_rule.TAKE_FROM_NEAREST: every state equal (valid
     # ticks measured: 187)
     from tests.mop.helpers import group_beside_alone
     templates, x, _, _ = _ended_short_stream()
