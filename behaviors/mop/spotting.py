@@ -246,7 +246,7 @@ class GestureSpotting(GestureEnd):
                       still: bool = False) -> None:
         """A new attempt starts at this sample (``still``: at the mean of the still input):
         anchor there, every template at its first state, no evidence; the threshold model
-        afresh but for its lead over the templates (:meth:`Refusal._threshold_lead`)."""
+        afresh but for its lead over the templates (:meth:`ThresholdLead._threshold_lead`)."""
         # Measured and not kept: the forward's transitions flatter for the attempt's first
         # samples, so that the followed state catches up with a fast start (onset found a few
         # states late: a kick ankle's followed progress 0.02 at 0.12 of it). bench/follow_quality
