@@ -14,7 +14,8 @@ from typing import Sequence
 import numpy as np
 
 from behaviors.kernel_cache import load
-from behaviors.mop import group_kernel, group_steps, member_validity, members, shape_lead
+from behaviors.mop import (group_kernel, group_steps, member_validity, members, shape_lead,
+                          take_rule)
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
 from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
@@ -264,7 +265,7 @@ class FollowerGroup(GroupArrays, GroupRules):
         pass (best already switched there): validity and spotting compiled
         (:func:`members.conclude`), then each member's state.
 
-        The gesture's last samples and their fit to a new best (:meth:`ShapeLead._fits_take`),
+        The gesture's last samples and their fit to a new best (:meth:`TakeRule._fits_take`),
         the tempo, the way back and the abandonment's end are applied by :func:`members.conclude`
         (:mod:`~behaviors.mop.member_validity`), not from here. Measured against doing them
         here (the samples kept by fancy indexing over the members, the fit tried through each
@@ -284,7 +285,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._shared, self._crawl, self._k_new, self._m_top3, self._m_likely,
             self._m_likely_v, self._lengths, self._tempo_x, self._tempo_g, self._tempo_s,
             f0.onset * f0.sigma,
-            self._tc, self._mc, self._taken, shape_lead.TAKE_MISFIT2, self._end_history)
+            self._tc, self._mc, self._taken, take_rule.TAKE_MISFIT2, self._end_history)
         # not shown just before a straight stroke's bend while the input went on straight
         # (bends.unturned: the rules went on as if it were)
         self._m_flags[0] &= ~self._bend_hidden

@@ -18,11 +18,11 @@ import numba
 import numpy as np
 
 from behaviors.mop import (halts, handover, overrun, path_kernel, shape_lead, speed_profile,
-                          take_fit)
+                          take_fit, take_rule)
 from behaviors.mop import validity
 from behaviors.mop import tempo as tempo_rules   # (its function tempo is this module's)
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
-from behaviors.mop.shape_lead import TAKE_FROM_NEAREST, TAKE_RESIZE, TAKE_SIZES_OUTWARDS
+from behaviors.mop.take_rule import TAKE_FROM_NEAREST, TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
 from behaviors.mop.validity import CARRY_FIRST
 from behaviors.mop.tempo import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
@@ -31,7 +31,7 @@ from behaviors.kernel_cache import compiled
 # the files whose compiled functions or constants the kernels take in (path_kernel's through
 # overrun's)
 _CALLS_INTO = (halts, handover, overrun, path_kernel, shape_lead, speed_profile, take_fit,
-               tempo_rules, validity)
+               take_rule, tempo_rules, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -101,18 +101,18 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
                      _F2, numba.float64, _F2), *_CALLS_INTO)
 def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads, states,
           ti, mean, tc, mc, floats, limit, shift) -> None:
-    """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
+    """:meth:`TakeRule._remember_take` for every present member with an ``anchor``: its sample
     ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
     them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
-    conditions, :meth:`ShapeLead._fits_take`, for each whose new ``best`` leads (not
+    conditions, :meth:`TakeRule._fits_take`, for each whose new ``best`` leads (not
     ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
     "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
     :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
     ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
-    refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
-    a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`). ``shift`` (M, D): each member's
+    refused sizes its template where :func:`~behaviors.mop.take_fit.size_of_refused` finds
+    a size (:data:`~behaviors.mop.take_rule.TAKE_RESIZE`). ``shift`` (M, D): each member's
     anchor less where the input came nearest the ended template's last point, the samples read
-    from there too (:data:`~behaviors.mop.shape_lead.TAKE_FROM_NEAREST`; zero: not).
+    from there too (:data:`~behaviors.mop.take_rule.TAKE_FROM_NEAREST`; zero: not).
 
     Compiled here rather than done by the group's Python around its compiled passes (fancy
     indexing over the members and a call through the follower, its Python and a copy of the
@@ -165,7 +165,7 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
         s = size_of_refused(taken[i, :n, :int(m[0])], states, arc, ti[gb, 2], start, length, g,
                             tc[gb, 5:], tc[gb, 5 + 3 * d:], size[gb], max(m[9], least[gb]),
                             m[11], m[14], TAKE_SIZES_OUTWARDS, TAKE_RESIZE)
-        if s > 0.0:   # as ShapeLead._fits_take: in place on the estimate's sums
+        if s > 0.0:   # as TakeRule._fits_take: in place on the estimate's sums
             num[gb] = s * (den[gb] + tc[gb, 2]) - tc[gb, 2]
             size[gb] = s
 

@@ -116,7 +116,7 @@ class Recognition:
         ``offset`` on."""
         k = len(self.names)
         b = self.bank
-        # every sample joins the take's last samples (shape_lead._fits_take), a rest's too.
+        # every sample joins the take's last samples (take_rule._fits_take), a rest's too.
         # Measured and not kept: in an attempt where nothing drove, a rest pushes none of the
         # motion out of them (a still puck resting where held-out 103's mirrored square among
         # twenty ended took the roll wrist once they held the rest alone). follow_seeds.py
@@ -430,7 +430,7 @@ class Recognition:
             restarted=bool(new[bi]),
             loglik_by=ByName(index, mean_ll_list), likely=likely,
             # the sizes after this sample (a refused take may have resized its template here,
-            # shape_lead.TAKE_RESIZE), as the group reports them
+            # take_rule.TAKE_RESIZE), as the group reports them
             scale_by=ByName(index, self._size.tolist()),
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:

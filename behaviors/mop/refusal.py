@@ -248,10 +248,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import coverage, threshold
+from behaviors.mop import coverage
 from behaviors.mop.misfit_size import reread
 from behaviors.mop.path_kernel import nearest_on_paths
 from behaviors.mop.spotting import SHARE_SIZES
+from behaviors.mop.threshold_lead import ThresholdLead
 from behaviors.mop.validity import unjudged
 
 
@@ -283,7 +284,7 @@ def shape_limits(invariance: str, distance: float | None,
     return d, min(a, d) if accept is None else float(accept)
 
 
-class Refusal:
+class Refusal(ThresholdLead):
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: refusal, path misfit and
     coverage (see the module docstring)."""
 
@@ -319,12 +320,7 @@ class Refusal:
         self._misfit, self._misfit_w = np.zeros((k, 4)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
         self._reached = np.zeros(k)   # the input's farthest reach (coverage.RUN_AHEAD)
-        # the ergodic states' weights, then the mirror chains' (threshold.threshold_model_step)
-        self._threshold_alpha = np.zeros(2 * len(b.means), dtype=threshold.PRECISION)
-        self._threshold_scratch = np.zeros(2 * len(b.means), dtype=threshold.PRECISION)
-        self._threshold_means = np.ascontiguousarray(b.means, dtype=threshold.PRECISION)
-        self._threshold_lengths = np.ascontiguousarray(b.lengths, dtype=np.int64)
-        self._threshold_const = -b.dim * np.log(self.sigma) - 0.5 * b.dim * np.log(2.0 * np.pi)
+        self._setup_threshold()
 
     def _forget_shape(self, which: np.ndarray | slice = slice(None)) -> None:
         """Forget the misfit and coverage of the templates ``which`` (all by default)."""
@@ -402,44 +398,6 @@ class Refusal:
         # path by more than coverage.EARLY_FIT
         self._covered &= ((self._arc_need >= self._arc_full) | (covered >= self._arc_full)
                           | (m2 <= coverage.EARLY_FIT ** 2))
-
-    def _threshold_evidence(self, x: np.ndarray, anchor: np.ndarray, lead_ll: float) -> float:
-        """Step the threshold model (:mod:`behaviors.mop.threshold`) with sample ``x`` seen from
-        ``anchor`` and return its evidence, forgotten as the templates' (``lead_ll``: this
-        sample's raw log-likelihood under the template of most evidence). Started afresh with
-        the evidence."""
-        b = self.bank
-        if self.invariance == "none":
-            z = (x - b.center) / b.scale
-            jac = -self._jacobian
-        else:
-            z = (x - anchor)[None, :] / b.scale
-            jac = -self._jacobian
-            if self.invariance == "scale":
-                z /= self._size[:, None]
-                jac = jac - self.dim * np.log(self._size)
-            z += self._first_z
-        step = threshold.threshold_model_step(
-            threshold.mirrored_column(z, self._first_z), self._threshold_means,
-            self._threshold_lengths, self.sigma, self._threshold_const,
-            np.ascontiguousarray(jac, dtype=float), self._threshold_alpha,
-            self._threshold_scratch, self._threshold_x is None, threshold.STAY)
-        step = threshold.gated(step - self.threshold, lead_ll, x, self._threshold_x,
-                               self._still_radius)
-        self._threshold_x = x
-        self._threshold_ev = self._threshold_ev * self._decay + step
-        return self._threshold_ev
-
-    def _threshold_lead(self) -> float:
-        """How far the threshold model's evidence leads the best template's, or 0 when it does
-        not, its mirror chains hold under :data:`~behaviors.mop.threshold.CARRY_CHAINED` of its
-        weight or it has not been stepped since the attempt began: what it starts a new attempt
-        with (see :mod:`behaviors.mop.threshold`)."""
-        n = len(self.bank.means)
-        if (self._threshold_x is None or not threshold.CARRY_LEAD
-                or float(self._threshold_alpha[n:].sum()) < threshold.CARRY_CHAINED):
-            return 0.0
-        return max(0.0, self._threshold_ev - float(np.max(self._evidence)))
 
     def _recent_dist2(self, k: int) -> float:
         """Template ``k``'s recent likelihood as a squared distance in its own spread (the

@@ -246,7 +246,7 @@ class GestureSpotting(GestureEnd):
                       still: bool = False) -> None:
         """A new attempt starts at this sample (``still``: at the mean of the still input):
         anchor there, every template at its first state, no evidence; the threshold model
-        afresh but for its lead over the templates (:meth:`Refusal._threshold_lead`)."""
+        afresh but for its lead over the templates (:meth:`ThresholdLead._threshold_lead`)."""
         # Measured and not kept: the forward's transitions flatter for the attempt's first
         # samples, so that the followed state catches up with a fast start (onset found a few
         # states late: a kick ankle's followed progress 0.02 at 0.12 of it). bench/follow_quality
@@ -338,7 +338,7 @@ class GestureSpotting(GestureEnd):
                 # ended at its tempo: the end is where the input comes nearest its last point
                 self._end_x = x.copy()
             # where the input came nearest that point until it first went away from it
-            # (shape_lead.TAKE_FROM_NEAREST)
+            # (take_rule.TAKE_FROM_NEAREST)
             if self._end_nearing and near < np.sum((self._end_near - self._end_last) ** 2):
                 self._end_near = x.copy()
             else:

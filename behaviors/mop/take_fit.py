@@ -1,6 +1,6 @@
 """The fit of a gesture's last samples to a template's path near its followed state, read at several
-sizes (:meth:`behaviors.mop.shape_lead.ShapeLead._fits_take`: a new action is taken only while they
-fit; the rules, their thresholds and their figures are in :mod:`behaviors.mop.shape_lead`, but for
+sizes (:meth:`behaviors.mop.take_rule.TakeRule._fits_take`: a new action is taken only while they
+fit; the rules, their thresholds and their figures are in :mod:`behaviors.mop.take_rule`, but for
 the traced mirrored paths below). Samples are raw (n, d: from the gesture's anchor, in the input's
 units); a template's path is its states (in its units: ``scale``, ``first``); misfits are mean
 square distances to the segments joining the states, forgotten with ``decay`` per sample (the last
@@ -8,13 +8,13 @@ weighing most) and divided by ``norm`` (sigma squared per column times the colum
 follower and the group call the same functions.
 
 Mirrored paths among twenty templates, traced on the tuned joints with seeds 201-210: every wrong
-take passed :meth:`~behaviors.mop.shape_lead.ShapeLead._fits_take`; of their valid ticks 49% were
+take passed :meth:`~behaviors.mop.take_rule.TakeRule._fits_take`; of their valid ticks 49% were
 taken at a misfit of 0.1-0.2 at the estimate, 31% within 0.1, 18% only at 1.12 times it (true takes
 at 0.7-1.4x, seeds 201-204: 85%, 5.5%, 6.5% of their valid ticks). What drove on after the take (a
 dance wrist on the mirrored figure eight at 0.7x, 0.24 -> 0.59 of itself) strayed 0.4-1.0 sigma^2
 for 10 samples before the threshold model refused it. Measured and not kept
 (``--sections=sized,unrelated``, tuned seed 13; unrelated mean over seeds 201-206):
-:data:`~behaviors.mop.shape_lead.TAKE_MISFIT2` 0.1: valid after 30% 0.9147 -> 0.9139, 0.6 / 1.5x
+:data:`~behaviors.mop.take_rule.TAKE_MISFIT2` 0.1: valid after 30% 0.9147 -> 0.9139, 0.6 / 1.5x
 0.7581 -> 0.7498 (recognised by their end 0.975 -> 0.925), mean 0.0232 -> 0.0176; 0.08: 0.9134,
 0.7302, mean 0.0155, but the ``follow`` command's circle with scale invariance
 (``tests/mop/test_follow_cli.py``) is then valid on no tick (over half at 0.09); the take's fit
@@ -24,15 +24,15 @@ asked again of the action's first 10 / 15 samples while it drives (stopped beyon
 What it held back to back: a held-out jump ankle (seed 103, twenty templates, 0.96x) best from
 0.31 of it, 50-70 nats ahead from 0.6, was never taken: the follower reached the dance ankle's end
 before it 2.8 mm short of where the performer ended it, and the jump, anchored there, read
-0.2-0.5 sigma^2 off its path at every one of :data:`~behaviors.mop.shape_lead.TAKE_SIZES` on each
+0.2-0.5 sigma^2 off its path at every one of :data:`~behaviors.mop.take_rule.TAKE_SIZES` on each
 of its 51 ticks (0.02-0.09 read from where it began). So after an end a take refused is read
 again from where the input came nearest the ended template's last point (until it first went
-away from it), and taken within :data:`~behaviors.mop.shape_lead.TAKE_FROM_NEAREST`: the jump at
+away from it), and taken within :data:`~behaviors.mop.take_rule.TAKE_FROM_NEAREST`: the jump at
 0.37 of it, a punch ankle 0.45 -> 0.38. ``bench/follow_seeds.py
 --sections=sized,unrelated,sequences`` (101-106): twenty within 20% or by the reach + 0.05 worst
 0.375 -> 0.406 (105), mean 0.500 -> 0.505, all else unchanged; ``bench/follow_quality.py``: every
 figure unchanged. Measured and not kept: within
-:data:`~behaviors.mop.shape_lead.TAKE_MISFIT2` itself (0.2), a spin wrist drove 0.39 of a circle
+:data:`~behaviors.mop.take_rule.TAKE_MISFIT2` itself (0.2), a spin wrist drove 0.39 of a circle
 for a tick (0.205 from the anchor, 0.155 from there; held-out longest other wrong run median 0 ->
 0.5); the end itself following the input nearer its last point (the next gesture anchored there,
 and moved on from there; ``bench/follow_quality.py``): held-out twenty within 20% or by the reach
@@ -47,18 +47,18 @@ What it holds back to back now (the true template's take asked at each tick from
 gesture to its recognition, gestures recognised after 20%; tuned and held-out 101-103, six and
 twenty templates): refused on 21 of 1353 ticks, never on the tick before recognition. So neither
 a limit that grows for few samples nor a take after an onset read from where the input began
-moving (as :data:`~behaviors.mop.shape_lead.TAKE_FROM_NEAREST` after an end) has a gesture to
+moving (as :data:`~behaviors.mop.take_rule.TAKE_FROM_NEAREST` after an end) has a gesture to
 free there: the lead, the commitment's fit, coverage and the confirmation hold them.
 
 Measured with :func:`~behaviors.mop.validity.unbegun` as it is, none kept (tuned joints, seeds
 201-210 and 300-309, unrelated motions through the follower; true ones: the sized gestures of seeds
 201-202, 201-203 while driving). Read mirrored: at every take the last samples' least misfit over
-:data:`~behaviors.mop.shape_lead.TAKE_SIZES` as performed and read mirrored (x -> -x from the
+:data:`~behaviors.mop.take_rule.TAKE_SIZES` as performed and read mirrored (x -> -x from the
 anchor), over the path near the followed state or from its start: no take read better mirrored,
 true (2956 checks) or on a mirrored path among twenty (327 runs, 2008 valid ticks; and 5 runs taken
 by the mirrored template itself, read mirrored 3-34 sigma^2 off: anchored where its path does not
 begin). Strayed while it drives: the last samples read as
-:meth:`~behaviors.mop.shape_lead.ShapeLead._fits_take` reads them, per valid tick, lie within 0.009
+:meth:`~behaviors.mop.take_rule.TakeRule._fits_take` reads them, per valid tick, lie within 0.009
 / 0.045 / 0.32 sigma^2 (median, 90%, 99%) on true performances at 0.7-1.4x and 0.16 / 0.29 / 0.53
 (median, 75%, 90%) on mirrored paths among twenty. An action stopped once beyond 0.5 five samples
 in a row (replayed, no retake): 11 true valid ticks of 14005 lost, 72 of 2067 on the mirrored paths
@@ -163,7 +163,7 @@ def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
 def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
               size: float, lo: float, hi: float, decay: float, norm: float,
               sizes: np.ndarray, limit: float) -> bool:
-    """Whether at any of ``sizes`` (``shape_lead.TAKE_SIZES``, times ``size``, within
+    """Whether at any of ``sizes`` (``take_rule.TAKE_SIZES``, times ``size``, within
     ``lo``..``hi``) the mean square distance (forgotten with ``decay`` per sample, the last
     weighing most; divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at
     that size in a template's units (``scale``, ``first``: its spread and first state) and the
@@ -193,7 +193,7 @@ def take_fits_at(samples: np.ndarray, means: np.ndarray, off: int, start: int, l
                  g: float, scale: np.ndarray, first: np.ndarray, size: float, lo: float,
                  hi: float, decay: float, norm: float, sizes: np.ndarray,
                  limit: float) -> bool:
-    """:func:`take_fits` at ``sizes`` (``shape_lead.TAKE_SIZES`` from the estimate outwards)
+    """:func:`take_fits` at ``sizes`` (``take_rule.TAKE_SIZES`` from the estimate outwards)
     within ``limit`` of a template followed at state ``g`` (its bank's index; ``start``,
     ``length``: its first state and its states), over its path from :data:`TAKE_REACH` states
     behind ``g`` to ahead of it: rows of ``means``

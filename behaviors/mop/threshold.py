@@ -85,7 +85,7 @@ throughout.
 Across a new attempt: spotting starts one where an action ends (a template followed back over
 itself too, valid or not) or every template is refused, and the templates' evidence starts
 afresh there. The threshold model starts afresh with it but for its lead over the best template
-(:meth:`~behaviors.mop.refusal.Refusal._threshold_lead`), while its mirror chains hold
+(:meth:`~behaviors.mop.threshold_lead.ThresholdLead._threshold_lead`), while its mirror chains hold
 :data:`CARRY_CHAINED` of its weight; none when it is behind, so a gesture after a gesture starts
 afresh. Afresh, a mirrored path loses what its chain had explained:
 the spin ankle mirrored at 1.4x (seed 203), the chain 73 nats ahead, the backflip wrist followed

@@ -99,7 +99,7 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order: the
     ergodic states' in its first half, the mirror chains' at the same places in its second)
-    with its sample seen by each template as :meth:`Refusal._threshold_evidence` maps it
+    with its sample seen by each template as :meth:`ThresholdLead._threshold_evidence` maps it
     (``zs`` (K, D + 1), the last column its first coordinate mirrored) and each template's
     log-density terms ``ljs`` (K,: the Gaussian's constant and the map's log Jacobian), as
     :func:`update_templates` left them (``m``: the member's row of ``mc``; ``ll``: scratch of

@@ -117,3 +117,21 @@ def refused(tmp_path, mutate, *words: str, error: type = None) -> None:
         build(data, tmp_path)
     for w in words:
         assert w in str(exc.value), str(exc.value)
+
+
+def chain(rng: np.random.Generator, gestures: dict, order: list,
+          size=lambda: 1.0) -> tuple[np.ndarray, list, np.ndarray]:
+    """``order``'s gestures back to back (time-warped, each at ``size()``, starting where the
+    last ended) after half a second still, with tracking jitter: samples, the true gesture per
+    tick (None while still) and its true progress (NaN while still)."""
+    from bench.motions import at_phase, phase_of
+    parts, truth, prog, at = [], [], [], np.zeros(2)
+    for g in order:
+        phase, p = phase_of(rng, len(gestures[g]))
+        parts.append(size() * at_phase(gestures[g], phase) + at)
+        at = parts[-1][-1].copy()
+        truth += [g] * len(p)
+        prog.append(p[:, 0])
+    x = (np.concatenate([np.zeros((15, 2))] + parts)
+         + rng.normal(0, 0.0007, (15 + len(truth), 2)))
+    return x, [None] * 15 + truth, np.concatenate([np.full(15, np.nan)] + prog)

@@ -8,7 +8,7 @@ from bench import synthetic_actions as g
 import numpy as np
 import pytest
 
-from behaviors.mop import group_steps, members, shape_lead
+from behaviors.mop import group_steps, members, take_rule
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup, _new_state
 from behaviors.mop.follower_validity import Validity
@@ -207,7 +207,7 @@ def test_a_group_of_many_puck_templates_equals_its_followers_alone():
     alone, group, streams = _puck_members(np.random.default_rng(3), 3, 30, 60, 4)
     streams[1][50:53] = np.nan   # one performer lost for a moment (the members' samples alike)
     valid = _step_both(alone, group, streams)
-    assert valid > 90   # ticks where both drove: 99 (105 with shape_lead.TAKE_SIZES up to 1.4)
+    assert valid > 90   # ticks where both drove: 99 (105 with take_rule.TAKE_SIZES up to 1.4)
 
 
 def test_the_group_threshold_models_keep_the_followers_own_weights():
@@ -301,14 +301,14 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
 def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkeypatch):
     # validity.rests_behind, compiled in members.conclude: a wave and a zigzag performed to 60%,
     # back to their start and rested; measured 122 valid states (168 without the rule), with the
-    # last samples' fit (shape_lead.TAKE_MISFIT2) lifted: with it 96 (123); with the zigzag
+    # last samples' fit (take_rule.TAKE_MISFIT2) lifted: with it 96 (123); with the zigzag
     # covered sooner (coverage.told_apart_arc) its way back is refused by coverage.EARLY_FIT
     # before it rests (valid to sample 82 either way): 119 (140), the wave's 27
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates
     from behaviors.mop import validity
     from tests.mop.test_quality import _there_and_back
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     gestures = gesture_templates()
     streams = [_there_and_back(gestures, n, 1) for n in ("wave", "zigzag")]
     alone = [puck_follower(gestures) for _ in streams]
@@ -329,8 +329,8 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     # without tempo.crawl_run, which keeps a crawl through hovering from counting: 362 vs
     # 371, and the mirrored figure eight accepted again as it rests, 53 vs 0, which crawl_run
     # stops whether refusal is judged at rest or not; with the last samples' fit,
-    # shape_lead.TAKE_MISFIT2, lifted here: with it 19 vs 22)
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    # take_rule.TAKE_MISFIT2, lifted here: with it 19 vs 22)
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates, performance, unrelated_motions
     from behaviors.mop import validity

@@ -6,7 +6,7 @@ import numpy as np
 
 from bench.follow_quality import MOCAP, puck_follower, run, true_metrics
 from bench.motions import mocap_templates, performance
-from behaviors.mop import invariance, reversal, shape_lead
+from behaviors.mop import invariance, reversal, take_rule
 from behaviors.mop.group import FollowerGroup
 from tests.mop.test_group import _step_both
 
@@ -54,8 +54,8 @@ def test_a_group_takes_the_reversal_sizes_as_its_followers_alone(gestures, monke
     # members performing paths that turn back, drawn smaller, one after the other: the sizes
     # taken at the reversals (and all that follows from them) are the same in the compiled group
     # (the streams are followed as far as the shorter one goes); with no action taken where the
-    # last samples stray from its path (shape_lead.TAKE_MISFIT2) lifted, as it waits for the sizes
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    # last samples stray from its path (take_rule.TAKE_MISFIT2) lifted, as it waits for the sizes
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     templates = {**gestures, **mocap_templates(joints=TURNING_BACK)}
     rng = np.random.default_rng(4)
     streams = [np.concatenate([performance(rng, templates[n], s)[0] for n in names])

@@ -9,10 +9,9 @@ import pytest
 
 from bench.follow_quality import puck_follower, run, true_metrics
 from bench.motions import at_phase, performance, phase_of, raise_hold_return, unrelated_motions
-from behaviors.mop import shape_lead
+from behaviors.mop import shape_lead, take_rule
 from behaviors.mop.follower import ActionFollower
 from tests.mop.helpers import widened_mirrored
-
 
 
 def test_gestures_at_other_sizes_stay_valid_and_followed(gestures):
@@ -156,7 +155,6 @@ def test_the_likeliest_actions_are_known_before_any_is_valid(gestures):
     assert not any(s.likely for s in states[6:12])
 
 
-
 def _unrelated_shares(gestures, **kw):
     """Valid share of the diagonal, spiral, wander and triangle (0.7, 1.0, 1.4x) with the circle
     alone and with the six gestures loaded (seeded)."""
@@ -180,8 +178,8 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
     # they stay valid for those stretches; validity.stalls and tempo.crawls take part of
     # what they would: without crawls 0.121 with them, 0.251 without); all measured with the
-    # last samples' fit (shape_lead.TAKE_MISFIT2) lifted, which takes most of what they take
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)   # read at each step
+    # last samples' fit (take_rule.TAKE_MISFIT2) lifted, which takes most of what they take
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)   # read at each step
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
     assert np.mean(list(now.values())) <= 0.25, now
@@ -241,22 +239,6 @@ def test_unrelated_motions_drive_a_tenth_of_the_time_at_most(gestures):
     assert valid["six:diagonal"] <= 0.15, valid
 
 
-def test_turning_is_blind_to_size_and_tempo_and_tells_a_mirror():
-    # the signed turning a new action must share with its template (turning.turning)
-    from behaviors.mop.turning import turn_fits, turning
-    u = np.linspace(0.0, 1.0, 200)
-    circle = np.stack([np.sin(2 * np.pi * u), 1 - np.cos(2 * np.pi * u)], axis=1) * 0.05
-    for size, n in ((0.7, 60), (1.4, 200)):
-        path = circle[np.linspace(0, 199, n).astype(int)] * size
-        assert turning(path, 0.003)[-1] == pytest.approx(2 * np.pi, abs=0.4)
-    assert turning(circle * [-1.0, 1.0], 0.003)[-1] == pytest.approx(-2 * np.pi, abs=0.4)
-    line = np.stack([u, 0 * u], axis=1) * 0.1
-    assert abs(turning(line, 0.003)[-1]) < 1e-9
-    # a hairpin is +pi or -pi by the jitter: both fit; a quarter turn the other way does not
-    assert turn_fits(np.array([np.pi]), -np.pi + 0.1, 1.3)
-    assert not turn_fits(np.array([0.5 * np.pi]), -0.5 * np.pi, 1.3)
-
-
 def _tail_and_paused(gestures) -> tuple[int, int, float]:
     """Valid ticks of the diagonal, wander and triangle (0.7, 1.4x; the circle alone and the six
     gestures loaded) while their last half second rests, all their valid ticks, and the six
@@ -295,11 +277,11 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
     # instead of 1.2, refusal.py: 168 (177), 0.693 (0.718)); tempo.crawls and
     # validity.unjudged take part of what it took (before unjudged: 33 (47), 181 (198); without
     # crawls either: 44 (70), 257 (286)); with the take sizes up to 1.4 times the estimate
-    # (shape_lead.TAKE_SIZES), as here: 6 (12), 75 (84), 0.705 (0.728); up to 1.12, the
+    # (take_rule.TAKE_SIZES), as here: 6 (12), 75 (84), 0.705 (0.728); up to 1.12, the
     # default, they take part of it too: 6 (9), 73 (76)
     from behaviors.mop import validity
 
-    monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
+    monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     now = _tail_and_paused(gestures)
     monkeypatch.setattr(validity, "CARRY_FIRST", -1.0)
     plain = _tail_and_paused(gestures)
@@ -344,70 +326,6 @@ def test_a_gesture_larger_than_recorded_is_sized_by_its_reach(gestures, monkeypa
         shares[rules] = out
     assert np.mean(shares["on"]) >= 0.95 and min(shares["on"]) >= 0.85, shares
     assert np.mean(shares["on"]) >= np.mean(shares["off"]) + 0.2, shares
-
-
-def _crawl_shares(gestures):
-    """Valid share of the triangle and the wander (0.7, 1.0, 1.4x) with the six gestures loaded."""
-    rng = np.random.default_rng(11)
-    f = puck_follower(gestures)
-    paths = unrelated_motions(rng, gestures)
-    out = {}
-    for name in ("triangle", "wander"):
-        shares = [np.mean([s.valid for s in run(f, performance(rng, paths[name], scale)[0])])
-                  for scale in (0.7, 1.0, 1.4)]
-        out[name] = float(np.mean(shares))
-    return out
-
-
-def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
-    # a template whose followed state crawls while the input sweeps on is not taken
-    # (tempo.slow_take): the triangle's stroke held in a template's turn, the wander hovering.
-    # Measured: triangle 0.089 (0.172 without), wander 0.028 (0.053); nothing vetoed as an
-    # overrun (overrun.overruns takes these ticks too)
-    from behaviors.mop import follower_validity, tempo, validity
-
-    monkeypatch.setattr(follower_validity.Validity, "_overruns", lambda self, k, g, x: False)
-    now = _crawl_shares(gestures)
-    monkeypatch.setattr(tempo, "LEAST_TEMPO", 0.0)
-    monkeypatch.setattr(validity, "LEAST_TEMPO", 0.0)
-    plain = _crawl_shares(gestures)
-    assert now["triangle"] <= 0.1 and now["triangle"] <= plain["triangle"] - 0.07, (now, plain)
-    assert now["wander"] <= plain["wander"] - 0.02, (now, plain)
-
-
-def _stretch_shares(gestures) -> tuple[float, float, float]:
-    """The triangle's and the diagonal's valid share (0.7, 1.0, 1.4x) and the six gestures'
-    valid share after 30% (0.7, 1.4x), the six gestures loaded, over three seeds; shared starts
-    off (``share_radius`` 0): the rules' own effect."""
-    tri, diag, true = [], [], []
-    for seed in (3, 11, 13):
-        rng = np.random.default_rng(seed)
-        f = puck_follower(gestures, share_radius=0.0)
-        paths = unrelated_motions(rng, gestures)
-        for out, name in ((diag, "diagonal"), (tri, "triangle")):
-            out += [np.mean([s.valid for s in run(f, performance(rng, paths[name], scale)[0])])
-                    for scale in (0.7, 1.0, 1.4)]
-        for name, tpl in gestures.items():
-            for scale in (0.7, 1.4):
-                x, prog = performance(rng, tpl, scale)
-                true.append(true_metrics(run(f, x), name, prog)["valid_after30"])
-    return float(np.mean(tri)), float(np.mean(diag)), float(np.mean(true))
-
-
-def test_an_action_followed_at_a_crawl_stops_driving(gestures, monkeypatch):
-    # a taken action whose followed state crawls for six samples in a row while the input sweeps
-    # on is a template stretched over a path not its own (tempo.crawls): the triangle's
-    # stroke along the line, a diagonal on the circle's chord. Measured: triangle 0.062 (0.076
-    # without), diagonal 0.170 (0.173); the gestures themselves 0.824 (0.825) (before the sizes
-    # at reversals, invariance.REVERSAL_FIT: 0.087 (0.106), 0.170 (0.173), 0.821 (0.821); before
-    # invariance.ALONG and validity.unjudged: 0.098 (0.130), 0.217 (0.226), 0.816 (0.814))
-    from behaviors.mop import tempo
-
-    now = _stretch_shares(gestures)
-    monkeypatch.setattr(tempo, "CRAWL_SAMPLES", 0)
-    plain = _stretch_shares(gestures)
-    assert now[0] <= plain[0] - 0.01 and now[1] <= plain[1], (now, plain)
-    assert now[2] >= plain[2] - 0.005, (now, plain)
 
 
 def _there_and_back(gestures, name: str, seed: int, reach: float = 0.6) -> np.ndarray:
@@ -463,4 +381,3 @@ def test_a_gesture_drawn_smaller_is_sized_once_its_stroke_turns(gestures, monkey
     assert shares[now, "crawl_right_wrist"] >= 0.85, shares
     assert shares[now, "crawl_right_wrist"] >= shares[plain, "crawl_right_wrist"] + 0.3, shares
     assert shares[now, "square"] >= shares[plain, "square"] + 0.05, shares
-

@@ -9,7 +9,7 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import shape_lead, tempo, threshold, validity
+from behaviors.mop import shape_lead, take_rule, tempo, threshold, validity
 from behaviors.mop.follower_validity import Validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import Refusal, shape_limits
@@ -48,8 +48,8 @@ def test_the_scaled_path_limits_keep_a_chord_of_the_circle_from_driving_it(gestu
     # as recorded. A diagonal is a chord of the circle's first 40% at 0.8-0.95x, within 1.4 sigma
     # of it. Measured: diagonal 0.101 (0.27 / 0.02 / 0.01), spiral 0.124, wander 0; with
     # 1.4 / 1.2, 0.263 and 0.133 (with no action taken where the last samples stray from its
-    # path, shape_lead.TAKE_MISFIT2, lifted here: the diagonal 0 with either limits)
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    # path, take_rule.TAKE_MISFIT2, lifted here: the diagonal 0 with either limits)
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     now = _circle_alone_shares(gestures)
     loose = _circle_alone_shares(gestures, shape_distance=1.4, shape_accept=1.2)
     assert now["diagonal"] <= 0.12 and now["diagonal"] <= loose["diagonal"] - 0.1, (now, loose)
@@ -163,9 +163,9 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
     # tempo.crawl_run: a wander crawling in the wave's first hump is stopped (crawls); as it
     # slows below the onset the wave was retaken at once, its state not moving. Measured 94
     # valid ticks, 140 with the crawl reset while hovering (before the last samples' fit); with
-    # the take sizes up to 1.4 times the estimate (shape_lead.TAKE_SIZES), as here, 48 and 80;
+    # the take sizes up to 1.4 times the estimate (take_rule.TAKE_SIZES), as here, 48 and 80;
     # with them up to 1.12, the default, 42 and 67
-    monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
+    monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     now = _wander_valid(gestures)
     monkeypatch.setattr(tempo, "CRAWL_HOVERS", False)   # the followers read it each step
     reset = _wander_valid(gestures)
@@ -190,8 +190,8 @@ def test_an_action_whose_shape_since_the_gesture_began_is_off_is_not_taken(gestu
     # shape_lead.TAKE_FIT: the spiral's second loop is a circle begun at the circle's start, but
     # the gesture began a loop before it (its shape since then 14-26 still radii RMS off the
     # circle's; true performances at 0.6-1.5x took their action within 12.3). Measured 23 ticks,
-    # 46 with no limit (the last samples' fit, shape_lead.TAKE_MISFIT2, lifted: with it 13, 19)
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    # 46 with no limit (the last samples' fit, take_rule.TAKE_MISFIT2, lifted: with it 13, 19)
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     now = _circle_on_spirals(gestures)
     monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read at each step
     unlimited = _circle_on_spirals(gestures)
@@ -269,14 +269,14 @@ def _mirrored_squares() -> tuple[dict[str, np.ndarray], list[np.ndarray]]:
 
 
 def test_a_new_action_is_taken_only_while_the_last_samples_fit_its_path(monkeypatch):
-    # shape_lead.TAKE_MISFIT2: the mirrored square's second and third sides are the roll ankle's
+    # take_rule.TAKE_MISFIT2: the mirrored square's second and third sides are the roll ankle's
     # rounded loop 13-17 mm off, followed within its spread at the size estimated; read afresh
     # at their best size, the last samples stray 0.23-0.38 sigma^2 from its path (true takes:
     # 0.02 median). Measured 3 valid ticks of 316, 78 without
     templates, streams = _mirrored_squares()
     f = puck_follower(templates)
     now = sum(s.valid for x in streams for s in run(f, x))
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)   # read at each step
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)   # read at each step
     unlimited = sum(s.valid for x in streams for s in run(f, x))
     assert now <= 10 and unlimited >= 60, (now, unlimited)
 
@@ -301,14 +301,14 @@ def _mirrored_waves() -> tuple[dict[str, np.ndarray], list[np.ndarray]]:
 
 
 def test_a_new_action_is_taken_only_at_a_size_near_the_one_it_is_followed_at(monkeypatch):
-    # shape_lead.TAKE_SIZES: the backflip wrist follows the mirrored wave's start at 1.01-1.05
+    # take_rule.TAKE_SIZES: the backflip wrist follows the mirrored wave's start at 1.01-1.05
     # of its size, where the last samples stray 0.29-0.58 sigma^2 from its path; they fit
     # within TAKE_MISFIT2 only read at 1.25-1.4 times that size (1.12 once). Measured 2 valid
     # ticks of the eight performances with the sizes up to 1.12, 47 with them up to 1.4
     templates, streams = _mirrored_waves()
     f = puck_follower(templates)
     now = sum(s.valid for x in streams for s in run(f, x))
-    monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
+    monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     wide = sum(s.valid for x in streams for s in run(f, x))
     assert now <= 6 and wide >= 30, (now, wide)
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.mop import handover, shape_lead, spotting
+from behaviors.mop import handover, spotting, take_rule
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.follower_validity import Validity
@@ -121,8 +121,8 @@ def dance_then_punch():
 def test_an_action_followed_at_a_crawl_past_its_finish_hands_over(dance_then_punch, monkeypatch):
     # with the rule the dance stops as it crawls past 0.9 (the punch's 2 first samples); without
     # it the dance drove the punch's first 7, until it crawled CRAWL_SAMPLES samples (measured
-    # with the last samples' fit, shape_lead.TAKE_MISFIT2, lifted: with it neither drives them)
-    monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    # with the last samples' fit, take_rule.TAKE_MISFIT2, lifted: with it neither drives them)
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     # (nothing vetoed as an overrun either: overrun.overruns takes these samples too)
     monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
     everything, x, truth, prog, order = dance_then_punch

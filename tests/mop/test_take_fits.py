@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from behaviors.mop import shape_lead, take_fit
+from behaviors.mop import take_fit, take_rule
 
 
 def least_misfit2(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
@@ -12,7 +12,7 @@ def least_misfit2(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, firs
     a, ab = path[:-1], np.diff(path, axis=0)
     weights = decay ** np.arange(len(samples))[::-1]      # the last sample weighs most
     least = np.inf
-    for f in shape_lead.TAKE_SIZES:
+    for f in take_rule.TAKE_SIZES:
         z = samples / scale / min(max(size * f, lo), hi) + first
         t = np.clip(np.einsum("nsd,sd->ns", z[:, None, :] - a, ab)
                     / np.maximum((ab * ab).sum(1), 1e-12), 0.0, 1.0)
@@ -35,7 +35,7 @@ def test_take_fits_answers_as_the_least_misfit_over_every_size():
         if abs(least - limit) < 1e-9 * limit:
             continue                                    # a tie only rounding decides
         fits = take_fit.take_fits(samples, path, scale, first, size, 0.6, 1.5, decay, norm,
-                                  take_fit.outwards(shape_lead.TAKE_SIZES), limit)
+                                  take_fit.outwards(take_rule.TAKE_SIZES), limit)
         assert fits == (least <= limit), (least, limit)
         answers.append(fits)
         near_limit += abs(least - limit) < 0.05 * limit
@@ -45,10 +45,10 @@ def test_take_fits_answers_as_the_least_misfit_over_every_size():
 
 def _square_shares(gestures, resize: float, monkeypatch) -> list[float]:
     """Valid after 30% of squares drawn 0.7x and 0.75x (six seeds each), with
-    :data:`~behaviors.mop.shape_lead.TAKE_RESIZE` at ``resize``."""
+    :data:`~behaviors.mop.take_rule.TAKE_RESIZE` at ``resize``."""
     from bench.follow_quality import puck_follower, run, true_metrics
     from bench.motions import performance
-    monkeypatch.setattr(shape_lead, "TAKE_RESIZE", resize)
+    monkeypatch.setattr(take_rule, "TAKE_RESIZE", resize)
     f = puck_follower(gestures)
     return [true_metrics(run(f, x), "square", prog)["valid_after30"]
             for scale in (0.7, 0.75) for x, prog in
@@ -58,10 +58,10 @@ def _square_shares(gestures, resize: float, monkeypatch) -> list[float]:
 
 def test_a_smaller_square_refused_at_its_corner_takes_the_size_that_fits(gestures, monkeypatch):
     # along the square's straight first side its size stays near 1; at the corner the followed
-    # state lags the performance and the take is refused at that size (shape_lead.TAKE_MISFIT2),
+    # state lags the performance and the take is refused at that size (take_rule.TAKE_MISFIT2),
     # while the circle takes over. Measured valid after 30% (mean of twelve): 0.52 with the size
-    # read from the refused take's samples (shape_lead.TAKE_RESIZE), 0.47 without
-    on = np.mean(_square_shares(gestures, shape_lead.TAKE_RESIZE, monkeypatch))
+    # read from the refused take's samples (take_rule.TAKE_RESIZE), 0.47 without
+    on = np.mean(_square_shares(gestures, take_rule.TAKE_RESIZE, monkeypatch))
     off = np.mean(_square_shares(gestures, 0.0, monkeypatch))
     assert on >= 0.51 and on >= off + 0.04, (on, off)
 
@@ -69,7 +69,7 @@ def test_a_smaller_square_refused_at_its_corner_takes_the_size_that_fits(gesture
 def test_a_group_takes_the_sizes_of_refused_takes_as_its_followers_alone(gestures):
     # members drawing squares smaller, then a circle or a square: the sizes taken from refused
     # takes (and all that follows from them) are the same in the compiled group. Valid states of
-    # the two members: measured 120, 107 without those sizes (shape_lead.TAKE_RESIZE 0)
+    # the two members: measured 120, 107 without those sizes (take_rule.TAKE_RESIZE 0)
     from bench.follow_quality import puck_follower
     from bench.motions import performance
     from behaviors.mop.group import FollowerGroup

@@ -1,5 +1,5 @@
 """The threshold model's lead over the templates carried across a new attempt
-(:meth:`behaviors.mop.refusal.Refusal._threshold_lead`, the study in
+(:meth:`behaviors.mop.threshold_lead.ThresholdLead._threshold_lead`, the study in
 :mod:`behaviors.mop.threshold`)."""
 
 import numpy as np
