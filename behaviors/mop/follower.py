@@ -318,7 +318,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._lagged = False   # the end was reached by handover.tempo_ended
         self._end_x: np.ndarray | None = None
         # where the input came nearest the ended template's last point since, and whether it has
-        # not yet gone away from it (shape_lead.TAKE_FROM_NEAREST)
+        # not yet gone away from it (take_rule.TAKE_FROM_NEAREST)
         self._end_near: np.ndarray | None = None
         self._end_nearing = False
         # the anchor less that point, for the next gesture (None: no end before it)

@@ -115,7 +115,7 @@ class GroupArrays:
         self._end_x = np.zeros((m, dmax))
         self._end_last = np.zeros((m, dmax))   # the ended template's last point (_moved_on)
         # where the input came nearest it since, not yet gone away from it, and the next
-        # gesture's anchor less that point (shape_lead.TAKE_FROM_NEAREST; zero: none)
+        # gesture's anchor less that point (take_rule.TAKE_FROM_NEAREST; zero: none)
         self._end_near, self._end_nearing = np.zeros((m, dmax)), np.zeros(m, dtype=bool)
         self._take_shift = np.zeros((m, dmax))
         # the last reversal's turn, the way into it and the samples since (-1: none pending;
@@ -136,7 +136,7 @@ class GroupArrays:
         self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
-        # the gesture's last samples from the anchor, oldest first (ShapeLead._fits_take)
+        # the gesture's last samples from the anchor, oldest first (TakeRule._fits_take)
         self._taken, self._taken_n = np.zeros((m, TAKE_SAMPLES, dmax)), np.zeros(m, dtype=np.intp)
         self._tempo_arrays()
         self._m_dim = col(lambda f: f.dim)

@@ -89,7 +89,7 @@ class GroupRules:
                 last = self._end_last[i]
                 if np.sum((self._x[i] - last) ** 2) < np.sum((anchor - last) ** 2):
                     anchor = last
-                shift = anchor - self._end_near[i]   # (shape_lead.TAKE_FROM_NEAREST)
+                shift = anchor - self._end_near[i]   # (take_rule.TAKE_FROM_NEAREST)
             elif h == members.UNSEEN:
                 anchor = self._unseen_x[i].copy()   # where it was followed to its end
             elif h == members.WAITING:

@@ -243,7 +243,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     highest, drift_run, attempt_from = floats[8], floats[12], floats[14]   # (group_layout.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
-    end_near, nearing = vectors[8], m_flags[18]   # (shape_lead.TAKE_FROM_NEAREST)
+    end_near, nearing = vectors[8], m_flags[18]   # (take_rule.TAKE_FROM_NEAREST)
     bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]
     acquired, nbuf, lost, after_end = ints[6], ints[7], ints[8], ints[9]
     drive_k, peak_k, restart = ints[10], ints[11], ints[12]
