@@ -34,7 +34,8 @@ def bodies(avoid: Sequence[pygame.Rect], drawn: Sequence[tuple[pygame.Rect, Char
     (under NARROW_MIN, or taller over a glow below it). The MOP example, 20 s recorded, drawn
     at 1280x720: the panel lay over a body in 1142 -> 226 frames (mean 3,998 -> 1,368 body px),
     over glows 10,164 -> 10,080 px a frame; it changes place or shape 1 -> 10 times (the
-    dancer's arms reaching under the narrower panel and back)."""
+    dancer's arms reaching under the narrower panel and back; 3 with :class:`PanelPlace`'s
+    dwell)."""
     states = {id(r): c for r, c in drawn}
     column = pygame.Rect(place.x, 0, place.w, window_h)   # where a narrower panel stands
     out = []
