@@ -411,6 +411,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 # the performer had already stopped there: the grace counts from where they
                 # stopped (GestureSpotting._arrived)
                 after_end[i] = arrived(buf, nbuf, i, radius)
+                valid[i] = valid[i] and after_end[i] <= END_GRACE   # (gesture_end.stood)
                 lagged[i] = lag
             elif was_end:
                 near, held, nearest2 = 0.0, 0.0, 0.0   # summed apart, as spotting's sums
