@@ -179,19 +179,18 @@ RETURN_RADIUS = 0.05
 #: column) since the sample before has one sample less of grace
 #: (:meth:`GestureEnd._arrived`): the performer stopped there a sample before.
 ARRIVE_RADIUS = 2.0
-#: Samples :func:`arrived` counts back at most: one more than :data:`END_GRACE`. An end its
-#: performer stood at for more than :data:`END_GRACE` samples before the follower reached it is
-#: not shown driving at that sample either (:func:`stood`): its grace, counted from where they
-#: stopped, is over.
-ARRIVE_MAX = END_GRACE + 1
+#: An end the follower reached at its tempo (:func:`~behaviors.mop.handover.tempo_ended`: lagging
+#: its performer) where the input had already stood this many samples (:func:`arrived`, which
+#: counts up to it) is not shown driving at that sample either (:func:`stood`).
+STOOD_SAMPLES = END_GRACE + 2
 
 
 def arrived(recent: list[np.ndarray], radius: np.ndarray) -> int:
     """How many samples before the last of ``recent`` (oldest first) lie, with it, within
     ``radius`` (range per column, raw units): the samples the input has already stood there,
-    at most :data:`ARRIVE_MAX`."""
+    at most :data:`STOOD_SAMPLES`."""
     n = 0
-    while n < min(ARRIVE_MAX, len(recent) - 1):
+    while n < min(STOOD_SAMPLES, len(recent) - 1):
         a = np.array(recent[-n - 2:])
         if not np.all(a.max(axis=0) - a.min(axis=0) <= radius):
             break
@@ -199,11 +198,11 @@ def arrived(recent: list[np.ndarray], radius: np.ndarray) -> int:
     return n
 
 
-def stood(after_end: int) -> bool:
-    """Whether an action that reached its end at this sample, ``after_end`` (:func:`arrived`)
-    being the samples its performer had already stood there, is over its grace at once: not
-    shown driving at this sample (its other rules go on as if it were)."""
-    return after_end > END_GRACE
+def stood(after_end: int, lagged: bool) -> bool:
+    """Whether an action that reached its end at this sample at its tempo (``lagged``), its
+    performer having stood there ``after_end`` samples before (:func:`arrived`), is past its
+    grace at once: not shown driving at this sample (its other rules go on as if it were)."""
+    return lagged and after_end >= STOOD_SAMPLES
 
 
 def drives(run: np.ndarray | int, confirm: np.ndarray | int,
@@ -293,6 +292,6 @@ class GestureEnd:
 
     def _arrived(self) -> int:
         """Samples the input has already stood where it is (its last recent sample), at most
-        :data:`ARRIVE_MAX`: the samples before it that lie, with it, within :data:`ARRIVE_RADIUS`
+        :data:`STOOD_SAMPLES`: the samples before it that lie, with it, within :data:`ARRIVE_RADIUS`
         still radii (range per column, as :meth:`_still` measures)."""
         return arrived(self._recent_x, ARRIVE_RADIUS * self._still_radius)

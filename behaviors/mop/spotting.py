@@ -332,7 +332,7 @@ class GestureSpotting(GestureEnd):
             self._end_x = nearest(self._recent_x, self._end_last) if done else x.copy()
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
-            over = stood(self._after_end)
+            over = stood(self._after_end, lagged)
             self._lagged = lagged
             self._end_near, self._end_nearing = self._end_x.copy(), True
         elif self._end_x is not None:

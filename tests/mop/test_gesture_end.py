@@ -8,8 +8,8 @@ from bench.follow_quality import puck_follower, run
 
 #: ``bench/follow_seeds.py``'s seed 107, its third sequence of twenty held-out templates back to
 #: back, up to the wave's first samples: the backflip ankle's performer stands at its eased end
-#: (within 2 still radii) from its last sample on, the follower reaches ``end`` three samples
-#: later, at the wave's third (0.033 of it).
+#: (within 2 still radii) from the sample before its last on, the follower reaches ``end`` at
+#: its tempo three samples after that last, at the wave's third (0.033 of it).
 SEED, NTH, UNTIL = 107, 3, 118
 #: That stream's valid ticks in a group (measured; 64 without gesture_end.stood).
 VALID = 63
@@ -22,7 +22,7 @@ def _backflip_into_wave() -> tuple[dict, np.ndarray, list]:
     return templates, x[:UNTIL], truth[:UNTIL]
 
 
-def test_an_end_reached_after_its_performer_stood_there_past_the_grace_is_not_shown():
+def test_an_end_reached_at_its_tempo_after_its_performer_stood_there_is_not_shown():
     # measured: the backflip drives the wave's first 2 samples (3 without gesture_end.stood:
     # also the sample at which its follower reaches the end)
     templates, x, truth = _backflip_into_wave()
