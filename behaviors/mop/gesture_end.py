@@ -158,6 +158,27 @@ size). ``bench/follow_seeds.py --sections=sequences``: N 2 (101, 107) and N 3 (1
 ``--sections=sized --seeds=105`` valid after 30% at 0.7-1.4x 0.8937 -> 0.8873 (N 2; 19
 performances at 0.6-1.5x lost ticks: true ends lie off their template's end at the estimated
 size) and 0.8929 (N 3).
+The grace counted whole from where the performer stopped (measured, not kept; shown valid only,
+follower and compiled group alike): an end reached at the tempo followed
+(:func:`~behaviors.mop.handover.tempo_ended`, the follower lagging) where the input had already
+stood 4 samples (:func:`arrived` counting up to 4, its radius) not shown driving at that sample.
+Held-out seed 107's twenty-template run of 3: the backflip ankle's performer stood at its eased end
+(within 1.5 still radii) from the sample before its last, its follower at 0.930 there reached
+``end`` at its tempo three samples later, at the wave's third, and drove the wave's first three.
+``bench/follow_seeds.py --sections=sized,sequences`` (107-112): twenty templates' longest wrong run
+3/5/3/2/4/2 -> 2/5/3/2/4/2, every other figure identical; but on 101-106 no run shorter and valid
+after 30% at 0.7-1.4x on 101 0.91304 -> 0.91268. Others (107-112, valid after 30% at 0.7-1.4x mean
+0.9048; 101-106 0.9077): stood 3 samples, however the end was reached: 107's run 3 -> 2, six
+gestures' 109 and 106 2 -> 1, but 0.9041 / 0.9072, lower on every seed (108 0.8906 -> 0.8888:
+performers creep into an eased end within 2 still radii while the follower, level with them,
+reaches ``end``); 4 samples (107-112): 0.9046 (108, 111, 112 lower); 5: no run shorter, 0.9047; 3
+at the tempo: 0.9048 -> 0.90478 (107 0.91115 -> 0.91098), 0.9076 (101, 105, 106 lower). The end
+read from the input turning away from the template's last direction (its last 3 states moving 1.5
+or 2.5 still radii a state at the estimated size, the input's step before along it by a cosine over
+0.5 and at least a still radius, this one against it), or the grace withheld once the input leaves
+the last point by 3 or 5 still radii in a sample: no run shorter on 106-112 (at the next gesture's
+first samples the input moves by the jitter alone, 0.1-2.7 still radii a sample: its eased start),
+valid after 30% 0.9035 / 0.9040 (turning), 0.9046 / 0.9048 (leaving).
 """
 
 from __future__ import annotations
@@ -179,30 +200,19 @@ RETURN_RADIUS = 0.05
 #: column) since the sample before has one sample less of grace
 #: (:meth:`GestureEnd._arrived`): the performer stopped there a sample before.
 ARRIVE_RADIUS = 2.0
-#: An end the follower reached at its tempo (:func:`~behaviors.mop.handover.tempo_ended`: lagging
-#: its performer) where the input had already stood this many samples (:func:`arrived`, which
-#: counts up to it) is not shown driving at that sample either (:func:`stood`).
-STOOD_SAMPLES = END_GRACE + 2
 
 
 def arrived(recent: list[np.ndarray], radius: np.ndarray) -> int:
     """How many samples before the last of ``recent`` (oldest first) lie, with it, within
     ``radius`` (range per column, raw units): the samples the input has already stood there,
-    at most :data:`STOOD_SAMPLES`."""
+    at most :data:`END_GRACE`."""
     n = 0
-    while n < min(STOOD_SAMPLES, len(recent) - 1):
+    while n < min(END_GRACE, len(recent) - 1):
         a = np.array(recent[-n - 2:])
         if not np.all(a.max(axis=0) - a.min(axis=0) <= radius):
             break
         n += 1
     return n
-
-
-def stood(after_end: int, lagged: bool) -> bool:
-    """Whether an action that reached its end at this sample at its tempo (``lagged``), its
-    performer having stood there ``after_end`` samples before (:func:`arrived`), is past its
-    grace at once: not shown driving at this sample (its other rules go on as if it were)."""
-    return lagged and after_end >= STOOD_SAMPLES
 
 
 def drives(run: np.ndarray | int, confirm: np.ndarray | int,
@@ -292,6 +302,6 @@ class GestureEnd:
 
     def _arrived(self) -> int:
         """Samples the input has already stood where it is (its last recent sample), at most
-        :data:`STOOD_SAMPLES`: the samples before it that lie, with it, within :data:`ARRIVE_RADIUS`
+        :data:`END_GRACE`: the samples before it that lie, with it, within :data:`ARRIVE_RADIUS`
         still radii (range per column, as :meth:`_still` measures)."""
         return arrived(self._recent_x, ARRIVE_RADIUS * self._still_radius)

@@ -14,7 +14,7 @@ import numba
 import numpy as np
 
 from behaviors.mop import gesture_end
-from behaviors.mop.gesture_end import ARRIVE_RADIUS, STOOD_SAMPLES
+from behaviors.mop.gesture_end import ARRIVE_RADIUS, END_GRACE
 from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (gesture_end,)   # the files whose constants the kernels take in
@@ -56,10 +56,10 @@ def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.n
 def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> int:
     """:func:`behaviors.mop.gesture_end.arrived` over member ``i``'s buffered samples (the last the
     newest): how many before the last lie, with it, within ``ARRIVE_RADIUS radius`` (D,) per
-    column (range), at most ``STOOD_SAMPLES``."""
+    column (range), at most ``END_GRACE``."""
     s = buf.shape[1]
     n = 0
-    while n < min(STOOD_SAMPLES, count[i] - 1):
+    while n < min(END_GRACE, count[i] - 1):
         for c in range(buf.shape[2]):
             hi = -np.inf
             lo = np.inf

@@ -23,8 +23,7 @@ import numpy as np
 from behaviors.mop import (blocked, gesture_end, handover, member_buffer, member_validity,
                            overrun, path_kernel, shape_lead, spotting, take_fit, tempo, validity)
 from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
-from behaviors.mop.gesture_end import (END_GRACE, MOVE_RADII, RETURN_BACK, RETURN_RADIUS,
-                                       STOOD_SAMPLES)
+from behaviors.mop.gesture_end import END_GRACE, MOVE_RADII, RETURN_BACK, RETURN_RADIUS
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
@@ -412,7 +411,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 # the performer had already stopped there: the grace counts from where they
                 # stopped (GestureSpotting._arrived)
                 after_end[i] = arrived(buf, nbuf, i, radius)
-                valid[i] = valid[i] and not (lag and after_end[i] >= STOOD_SAMPLES)   # (stood)
                 lagged[i] = lag
             elif was_end:
                 near, held, nearest2 = 0.0, 0.0, 0.0   # summed apart, as spotting's sums

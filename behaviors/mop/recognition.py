@@ -86,7 +86,6 @@ from ``bench/follow_quality.py`` unless said otherwise.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -436,10 +435,8 @@ class Recognition:
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:
             self._ended = -1
-        if self.invariance != "none" and self._spot(valid, ok, engaged, still, bi,
-                                                    progress_list[bi], step_ll[bi], x, forward,
-                                                    offset):
-            # its end reached over its grace already (gesture_end.stood): not shown at this sample
-            state = dataclasses.replace(state, valid=False)
+        if self.invariance != "none":
+            self._spot(valid, ok, engaged, still, bi, progress_list[bi], step_ll[bi], x, forward,
+                       offset)
         self._state = state
         return state

@@ -208,7 +208,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.under_way import step_length, underway
 from behaviors.mop.gesture_end import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII,  # noqa: F401
                                        RETURN_BACK, RETURN_RADIUS, GestureEnd, arrived,
-                                       drives, stood)
+                                       drives)
 from behaviors.mop.handover import (TEMPO_END_FROM, TEMPO_END_KEEP, finished, nearest, slowed,
                                     tempo_ended)
 
@@ -304,12 +304,11 @@ class GestureSpotting(GestureEnd):
         return bool(((a.max(axis=0) - a.min(axis=0)) <= 2.0 * self._still_radius).all())
 
     def _spot(self, valid: bool, ok: bool, engaged: bool, still: bool, bi: int, progress: float,
-              step_ll: float, x: np.ndarray, forward: WindowedForward, offset: int) -> bool:
+              step_ll: float, x: np.ndarray, forward: WindowedForward, offset: int) -> None:
         """After a sample: start afresh when the gesture of ``bi`` ended (its end reached, or it
         rests near its end) or every template refused it; a still input waiting for a gesture
         anchors it. ``ok``: ``bi`` matched at this sample; ``progress`` and ``step_ll``: its
-        progress and this step's log-likelihood. Returns whether its end was reached at this
-        sample over its grace already (:func:`~behaviors.mop.gesture_end.stood`)."""
+        progress and this step's log-likelihood."""
         # the highest progress of the action driving since it began (for _returned)
         self._peak = max(self._peak, progress) if bi == self._peak_k else progress
         # the action's progress over its last samples (handover.tempo_ended)
@@ -324,7 +323,6 @@ class GestureSpotting(GestureEnd):
         lagged = (self._end_x is None and valid and TEMPO_END_FROM <= progress < self.end
                   and not done and slowed(self._recent_x, self._still_radius)
                   and tempo_ended(self._end_history, self.end))
-        over = False
         if self._end_x is None and ((valid and progress >= self.end) or done or lagged
                                     or self._returned(x, bi, progress)):
             self._end_last = self._last_point(bi)
@@ -332,7 +330,6 @@ class GestureSpotting(GestureEnd):
             self._end_x = nearest(self._recent_x, self._end_last) if done else x.copy()
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
-            over = stood(self._after_end, lagged)
             self._lagged = lagged
             self._end_near, self._end_nearing = self._end_x.copy(), True
         elif self._end_x is not None:
@@ -405,4 +402,3 @@ class GestureSpotting(GestureEnd):
             self._underway = under
         elif still and not engaged:
             self._restart_here(x, forward, offset, still=True)
-        return over
