@@ -378,7 +378,21 @@ class GestureSpotting(GestureEnd):
             # performer's last samples engage others). The tuned roll ankle that went late (0.189
             # -> 0.208) began after a figure eight the follower ended 4 samples before its
             # performer; waiting for the input to stand (ARRIVE_RADIUS) first did not bring it
-            # back and lost a held-out gesture.
+            # back and lost a held-out gesture. On the rules since, anchored at the mean of the
+            # samples the input stood there (arrived, 2 still radii; at one sample 101's run: 6-7)
+            # and begun again while the input goes on forward along the ended template's last
+            # fifth of path (within 3 still radii, short of its last point; without it a line
+            # after a spin ended 7 samples early was anchored 3.7 mm off, never recognised):
+            # bench/follow_quality.py --sections=sequences per seed, twenty templates, within 20%
+            # held-out 101-106 mean 0.281 -> 0.323 (every seed up), six 102 and 106 up one; but
+            # tuned 0.406 -> 0.375 and 102's longest wrong run 3 -> 5: the punch ankle leads a
+            # getup wrist in shape (shape_lead) at 0.105-0.14 of it, on the samples the attempt
+            # now holds (the cartwheel's last one, the getup's still start), at the anchor of
+            # before. The tuned roll ankle (0.189 -> 0.208): the eight's last 2 samples go
+            # neither nearer its last point nor forward along its path; begun again while within
+            # 3 still radii of that path whichever way the input goes, the roll is back at 0.189,
+            # but a closed figure's next gesture runs along it (anchors 7-11 mm off, a walk
+            # ankle after the eight never recognised).
             anchor, near = self._next_anchor(x, bi), self._end_near
             self._restart_here(x, forward, offset)
             self._anchor = anchor
