@@ -323,7 +323,20 @@ class PerformanceFrame:
             qr -= w * qt * (t @ r)
             qq -= w * qt * qt
         # (measured and not kept, no sums taken while the performer rests, with no reversal read
-        # at rest either: held-out sized valid after 30% 108 .8987 -> .8890, 102 .9053 -> .8943)
+        # at rest either: held-out sized valid after 30% 108 .8987 -> .8890, 102 .9053 -> .8943.
+        # In a long pause of an action that carried its performer (validity.unweighed) the sums
+        # feed a creep: the followed state rests a little ahead of the still input, the sums
+        # read it as a smaller size, the state moves on (the held-out 0.7x dance ankle paused at
+        # 0.53: 0.54 -> 0.59 over 20 samples, size 0.69 -> 0.67, dropped by shape_lead's drift
+        # at the pause's end). Measured and not kept, follower and group kernel alike: no sums
+        # in such a pause: 102 .9027 -> .9034, 103 .9171 -> .9166 (a true slow stretch read as a
+        # pause keeps a size too large: a 0.7x dance ankle 1.0 -> .98); none from its 9th sample:
+        # 101-106 .9130 .9036 .9168 .9108 .9033 .9001, 107-109 .9108 .8904 .9055 (109's 1.2x kick
+        # wrist sized 1.42 corrects toward 1.2 in its pause: .98 -> .87); from its 9th sample
+        # only sums that would shrink the size: 109 .9056, 106 .9001, the rest equal or up (110
+        # .9138 -> .9156); ... and only while the state lies ahead of where the pause began:
+        # 106 .9001 (a 1.0x circle's end spotted a sample sooner at size 1.001 against 1.000),
+        # 107 .9112 -> .9098 (a 0.7x punch ankle paused .89 -> .76))
         self._num += qr
         self._den += qq
         np.maximum(self._least, math.sqrt(float(r @ r)) * self._reach_inv, out=self._least)
