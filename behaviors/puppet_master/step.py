@@ -416,7 +416,8 @@ class GenerationStep(StepMatch):
                 # and straight (its two 0.25 s halves within 0.25 rad) 13 / 50 / 16 (orbit 10,
                 # speed 19, still/moving loops 19, slow 25 -> 29; all the lover's misses with its
                 # designer's 473 -> 508): beside a looping main it walks faster than shown (the
-                # loops' ratio under 0.293). Each re-draws the still/moving misses. Not kept
+                # loops' ratio under 0.293); within 0.1 rad 29 / 65 / 24 (orbit 30, speed 37).
+                # Each re-draws the still/moving misses. Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
