@@ -400,6 +400,24 @@ class GenerationStep(StepMatch):
                 # orbit on 46 unseen paths (seeds 0-21, 40-51, 128-139) 0.341 rad/s against 0.343
                 # without the raise (shown 0.457), higher on 24 of 46: the orbit is not restored,
                 # the gain is the re-matching's spread. Not kept
+                # Its slow-path orbit and speed (traced on 7 slow paths, main walking): the
+                # match takes walked moments (84-98%) at the live main's pace, orbiting 0.35-0.45
+                # rad/s; the correction takes the raw step to 0.15-0.21 m/s (moments 0.10-0.115)
+                # and this cap, binding on 65-79% of the steps, takes 15-25% of the orbit with it
+                # (0.32-0.51 -> 0.27-0.42 rad/s; the smooth and the detail none). The lover
+                # alone, 7 runs (relative_motion x 1, 1 +- 0.001 / 0.002 / 0.003), its misses
+                # (the engine's) on seeds 0-5 / 40-51 / 128-139 against 18 / 43 / 34: the cap
+                # spent on the moment's motion first 18 / 64 / 26 (orbit 29 -> 14, speed 25 ->
+                # 37, still/moving 38 -> 57); the part round the main that the cap took of that
+                # motion given back 33 / 50 / 25 (orbit 24, speed 10, still/moving 38 -> 73);
+                # only while the live main walks (0.05 m/s) no faster than the moment's main
+                # over 0.5 s 15 / 50 / 31 (orbit 24, speed 36, loops still/moving 11 -> 14);
+                # while it walks (0.05 m/s) 24 / 46 / 31 (orbit 10 but loops still/moving 42);
+                # and straight (its two 0.25 s halves within 0.25 rad) 13 / 50 / 16 (orbit 10,
+                # speed 19, still/moving loops 19, slow 25 -> 29; all the lover's misses with its
+                # designer's 473 -> 508): beside a looping main it walks faster than shown (the
+                # loops' ratio under 0.293); within 0.1 rad 29 / 65 / 24 (orbit 30, speed 37).
+                # Each re-draws the still/moving misses. Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
