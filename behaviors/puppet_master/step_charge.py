@@ -96,7 +96,9 @@ x 2 / 1.5 / 1.25 while the live main stands (its lurk shortened in a stand): 11 
 (contact 10, orbit 16, still/moving 38: seeds 1 slow over, 5 fast under), 23 / 33 / 43 = 99
 (still/moving 52); x 2 with the raise 29 / 41 / 38. None kept: each re-draws which paths miss
 (not monotone in the factor; a per-run total of 8-12 against 8-16 at x 2), and with the raise
-every one is worse than without it.
+every one is worse than without it. Both rules together (the state at 0.25, the count x 1.5 / x 2):
+11 / 29 / 23 = 63 (contact 12, still/moving 24, but orbit 27: fast paths 3 -> 12 over), 13 / 33
+/ 23 = 69 (contact 18, still/moving 25, orbit 26: 40-51 slow 6 -> 17). Not kept: orbit worse.
 """
 
 from __future__ import annotations
