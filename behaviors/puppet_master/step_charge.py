@@ -82,6 +82,23 @@ The same hold within 0.12 m only while the live main's pace over its last positi
 often: the rhythm the hold lost there), summed over the three runs as above per set: 11 (8) / 11
 (9) / 17 (12) / 20 (15), 59 (44) against 64 (48), but seeds 0-5 3 -> 11: the slow paths'
 still/moving (seeds 2, 4, 5: 7 of the 11). Not kept.
+
+The still side: a stand given its charge back. The demonstrated bully charges its standing main
+2.7 times as often as its walking one (4 of its 15 charges start or touch where its main stood,
+12% of the samples). Its misses (the engine's alone) over the seven runs per set above, against
+20 / 35 / 27 = 82 (contact 32, orbit 21, still/moving 29): the main's still/moving state
+(features.main_still) in its situation and coherence vectors at 1 / 0.5 / 0.25 x its inverse
+spread 16 / 48 / 59, 17 / 35 / 22 (contact 20, orbit 15, still/moving 39), 11 / 16 / 44
+(still/moving 34; 128-139's 9 -> 23, over and under); each with the raise above 21 / 39 / 48,
+26 / 52 / 36 (fast contact over), 23 / 19 / 39. The live steps since the last push counted
+x 2 / 1.5 / 1.25 while the live main stands (its lurk shortened in a stand): 11 / 22 / 36 = 69
+(contact 28, orbit 15, still/moving 26; 128-139 4-8 a run against 2-6), 24 / 20 / 20 = 64
+(contact 10, orbit 16, still/moving 38: seeds 1 slow over, 5 fast under), 23 / 33 / 43 = 99
+(still/moving 52); x 2 with the raise 29 / 41 / 38. None kept: each re-draws which paths miss
+(not monotone in the factor; a per-run total of 8-12 against 8-16 at x 2), and with the raise
+every one is worse than without it. Both rules together (the state at 0.25, the count x 1.5 / x 2):
+11 / 29 / 23 = 63 (contact 12, still/moving 24, but orbit 27: fast paths 3 -> 12 over), 13 / 33
+/ 23 = 69 (contact 18, still/moving 25, orbit 26: 40-51 slow 6 -> 17). Not kept: orbit worse.
 """
 
 from __future__ import annotations
