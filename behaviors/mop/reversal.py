@@ -106,10 +106,13 @@ REVERSAL_LARGER_AHEAD = 6
 #: was sized 1.63 by a 2.9 mm waver at a cosine of 0.06 before it rose, then followed behind
 #: its stroke at 1.8 and refused (held-out seed 108, valid after 30% 0 -> .949). Held-out
 #: sized valid after 30% (bench/follow_seeds.py --sections=sized,unrelated,sequences) 107-112
-#: .9112 .8906 .9067 .9138 .9027 .9038 -> .9112 .9003 .9067 .9138 .9027 .9038, all else the
-#: same but 107's twenty within 20% or reach + .05 .500 -> .531. At 0.7 a 0.7x figure eight
-#: whose wiggle 1 mm from its first state took a turn at 0.69 (103 .948 -> .362; 109 lower too);
-#: so did no landmark within 4 still radii of the first state (103 .9171 -> .9141).
+#: .9112 .8906 .9067 .9138 .9027 .9038 -> .9119 .9003 .9067 .9138 .9027 .9038, 101-106 the
+#: same, all else the same but 107's twenty within 20% or reach + .05 .500 -> .531;
+#: bench/follow_quality.py held-out 0.6 / 1.5x .7315 -> .7450 (a 0.6x figure eight 0 -> .571).
+#: At 0.5: 107 unchanged, 0.6 / 1.5x .7307 (a 0.6x roll wrist .182 -> .152, at 0.3-0.6 alike).
+#: At 0.7 a 0.7x figure eight whose wiggle 1 mm from its first state took a turn at 0.69 (103
+#: .948 -> .362; 109 lower too); so did no landmark within 4 still radii of the first state
+#: (103 .9171 -> .9141).
 REVERSAL_ALIGN = 0.6
 
 
