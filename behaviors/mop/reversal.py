@@ -108,7 +108,8 @@ REVERSAL_LARGER_AHEAD = 6
 #: sized valid after 30% (bench/follow_seeds.py --sections=sized,unrelated,sequences) 107-112
 #: .9112 .8906 .9067 .9138 .9027 .9038 -> .9119 .9003 .9067 .9138 .9027 .9038, 101-106 the
 #: same, all else the same but 107's twenty within 20% or reach + .05 .500 -> .531;
-#: bench/follow_quality.py held-out 0.6 / 1.5x .7315 -> .7450 (a 0.6x figure eight 0 -> .571).
+#: bench/follow_quality.py held-out 0.6 / 1.5x .7315 -> .7450 (a 0.6x figure eight 0 -> .571),
+#: unrelated mean .0110 -> .0108 (twenty templates' diagonal .042 -> .033), all else the same.
 #: At 0.5: 107 unchanged, 0.6 / 1.5x .7307 (a 0.6x roll wrist .182 -> .152, at 0.3-0.6 alike).
 #: At 0.7 a 0.7x figure eight whose wiggle 1 mm from its first state took a turn at 0.69 (103
 #: .948 -> .362; 109 lower too); so did no landmark within 4 still radii of the first state
