@@ -248,7 +248,8 @@ def test_a_gesture_never_recognised_ends_where_the_input_moves_on_from_its_templ
 
 def test_a_group_ends_a_gesture_never_recognised_as_its_followers_alone():
     # members.UNSEEN, the group's form of the rule above: every state equal (valid ticks
-    # measured: 60; 6 without the rule)
+    # measured: 58, every one the getup's; 6 without the rule. 60 before reversal.REVERSAL_ALIGN,
+    # whose sizes move the getup's valid ticks at 0.80-0.85 of it: one gained, three lost)
     from tests.mop.helpers import group_beside_alone
     templates, x, _, _ = _unseen_end_stream()
-    assert group_beside_alone(lambda: puck_follower(templates), [x]) == [60]
+    assert group_beside_alone(lambda: puck_follower(templates), [x]) == [58]
