@@ -42,7 +42,7 @@ from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
 from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.size_sums import estimate_sums
-from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
+from behaviors.mop.shape_lead import DRIFT_FROM, DRIFT_HELD_AT_REST, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
                                     UNWEIGHED_AT_REST)
@@ -344,7 +344,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                            m[un0:un0 + d], m[ra0:ra0 + d])
             if spots > 0.0:   # ... and the run of samples it drifts further off (_drifts)
                 rising = acc > drift[k] and acc > dims * DRIFT_FROM ** 2
-                drift_run[k] = drift_run[k] + 1.0 if rising else 0.0
+                held = rest and DRIFT_HELD_AT_REST
+                drift_run[k] = drift_run[k] + (0.0 if held else 1.0) if rising else 0.0
                 drift[k] = acc
             mv = mv / dims
             if mv > moving:

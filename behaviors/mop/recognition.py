@@ -277,7 +277,7 @@ class Recognition:
             self._best = top
         committed = -1   # committed to by shape: best, however improbable (spotting)
         if self.invariance != "none":
-            self._add_shape(x, gi, g - gi)
+            self._add_shape(x, gi, g - gi, rests)
             committed = self._committed()
             if committed >= 0:
                 self._best = committed

@@ -235,12 +235,27 @@ TAKE_FIT = 14.0
 DRIFT_SAMPLES = 6
 #: ... each time beyond this many still radii (RMS per column).
 DRIFT_FROM = 3.0
+#: A sample taken while the performer rests (:func:`~behaviors.mop.tempo.resting`) does not
+#: lengthen the drift run (a sample that does not drift further off still ends it): a still puck
+#: does not drift off; the followed state's creep ahead of it in a pause (the size sums,
+#: invariance.PerformanceFrame) is no sign of another action. The held-out 0.7x dance ankle
+#: paused at 0.53 had been dropped at the pause's end and taken again 4 samples later (valid
+#: after 30% .911 -> 1.0). Held-out sized valid after 30% (bench/follow_seeds.py
+#: --sections=sized,unrelated,sequences) 101-106 .9130 .9027 .9171 .9099 .9031 .9003 -> .9130
+#: .9036 .9171 .9102 .9050 .9015, 107-112 .9119 .9003 .9067 .9138 .9027 .9038 -> .9127 .9003
+#: .9081 .9142 .9027 .9038, every other figure identical; bench/follow_quality.py pauses valid
+#: tuned / held-out .9678 / .9458 -> .9694 / .9498, held through .942 / .898 -> .957 / .915;
+#: price: tuned unrelated after a gesture .0447 -> .0449 (a triangle's .0355 -> .0362).
+#: Measured and not kept, the run left as it was at rest (not ended either): 103 .9171 ->
+#: .9160, 104 -> .9097, 112 -> .9031.
+DRIFT_HELD_AT_REST = True
 
 
 class ShapeLead(TakeRule):
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: shape sums, lead and commitment."""
 
-    def _add_shape(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray) -> None:
+    def _add_shape(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray,
+                   rests: bool = False) -> None:
         """Add to every template's shape sum the squared distance (in still radii) between the
         input and its followed state ``gi`` + ``frac`` at its estimated size, both from where
         the gesture began; count the sample (``_shape_n``)."""
@@ -254,7 +269,8 @@ class ShapeLead(TakeRule):
                        self.bank.lengths, self._rel, self._size, self._units, self._still_radius)
         # the run of samples each drifts further off, beyond DRIFT_FROM (_drifts)
         rising = (d2 > self._drift) & (d2 > self.dim * DRIFT_FROM ** 2)
-        self._drift_run = np.where(rising, self._drift_run + 1.0, 0.0)
+        held = rests and DRIFT_HELD_AT_REST
+        self._drift_run = np.where(rising, self._drift_run + (0.0 if held else 1.0), 0.0)
         self._drift = d2
         self._shape_n += 1
 
