@@ -149,6 +149,10 @@ class LineSplitter:
         self._skipping = False
         self.overlong = 0
 
+    def unfinished_is_ascii(self) -> bool:
+        """Whether the unfinished line held so far is ASCII (empty: True)."""
+        return self._buf.isascii()
+
     def feed(self, data: bytes) -> list[bytes]:
         """The lines that ``data`` completes (without their ``\n``; a ``\r`` before it kept)."""
         lines = []
@@ -337,11 +341,14 @@ class SerialInput(BackgroundSource):
                 self._retries.worked(self.port)
             got = True
             overlong = splitter.overlong
+            held_ascii = splitter.unfinished_is_ascii()   # (the line's earlier reads)
             lines = splitter.feed(data)
             if splitter.overlong > overlong:   # (firmware ending lines with \r alone:
-                # every line ran into the next, and "line over 1024 bytes" was all it said)
+                # every line ran into the next, and "line over 1024 bytes" was all it said).
+                # Not noise: judged on the whole overlong line, the reads held before this one
+                # too (this read alone could be a plain stretch of line noise)
                 alone = " (lines ending in \\r alone? end them with \\n or \\r\\n)" \
-                    if data.isascii() and BARE_CR.search(data) else ""   # (not noise)
+                    if held_ascii and data.isascii() and BARE_CR.search(data) else ""
                 self.bad.count("overlong", f"line over {MAX_LINE} bytes{alone}",
                                splitter.overlong - overlong)
             if lines:

@@ -194,3 +194,21 @@ def test_lines_ending_in_a_bare_cr_are_said_as_such(caplog):
                 if f"cr{asked}{len(ending)}: ignored overlong" in r.getMessage()]
         assert len(said) == 1 and ("lines ending in \\r alone? end them with \\n or \\r\\n"
                                    in said[0]) == asked, said
+
+
+def test_line_noise_read_in_parts_is_not_asked_about_its_line_endings(caplog):
+    """An overlong line is judged whole: noise whose last read alone is plain ASCII with a
+    ``\r`` in it (its earlier read not) is not taken for lines ending in ``\r``."""
+    caplog.set_level("WARNING", logger="tabletop")
+    src = SerialInput("noise-in-parts", "loop://")
+    src.open()
+    try:
+        assert wait_for(lambda: src.port_object is not None, 5.0)
+        src.port_object.write(bytes(range(128, 256)) * 5)           # no line ends: held
+        assert wait_for(lambda: src.port_object.in_waiting == 0, 5.0)
+        src.port_object.write(b"puck 1 0.5 0.4 0\r" * 40 + b"\n")   # read after it
+        assert wait_for(lambda: src.bad.counts().get("overlong", 0) >= 1, 5.0)
+    finally:
+        src.close()
+    said = [r.getMessage() for r in caplog.records if "noise-in-parts: ignored" in r.getMessage()]
+    assert len(said) == 1 and "alone?" not in said[0], said
