@@ -254,11 +254,11 @@ DRIFT_HELD_AT_REST = True
 class ShapeLead(TakeRule):
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: shape sums, lead and commitment."""
 
-    def _add_shape(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray,
-                   rests: bool = False) -> None:
+    def _add_shape(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray, rests: bool) -> None:
         """Add to every template's shape sum the squared distance (in still radii) between the
         input and its followed state ``gi`` + ``frac`` at its estimated size, both from where
-        the gesture began; count the sample (``_shape_n``)."""
+        the gesture began; count the sample (``_shape_n``). ``rests``: the performer rests
+        (:data:`DRIFT_HELD_AT_REST`)."""
         q = self._rel[gi] + frac[:, None] * (self._rel[gi + 1] - self._rel[gi])
         d = (x - self._anchor)[None, :] - self._size[:, None] * q * self._units
         d /= self._still_radius
