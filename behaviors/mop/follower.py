@@ -290,6 +290,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._blocked, self._blocked_k, self._barred, self._freed = 0, -1, -1, -1
         self._once = np.zeros(len(self.names), dtype=bool)
         self._lost = 0
+        # this attempt began at an end read as a return, and whether the pending one is
+        # (spotting.REANCHOR_RADII)
+        self._begun_at_return = self._end_returned = False
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0
         # ... and at each timing offset (commitment.add_lagged)

@@ -84,6 +84,8 @@ class GroupArrays:
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
         self._abandoned, self._came = np.zeros(m, dtype=bool), np.zeros((m, dmax))
         self._abandon_rested = np.zeros(m, dtype=bool)   # ... and rested since (still_unbegun)
+        # the attempt began at an end read as a return; the pending end is one (spotting)
+        self._begun_at_return, self._end_returned = np.zeros((2, m), dtype=bool)
         # the input's path since the anchor, its samples and last two steps, and whether the
         # attempt was begun under way, rested since (under_way.underway)
         self._walk, self._walk_n = np.zeros(m), np.zeros(m, dtype=np.intp)
@@ -157,7 +159,8 @@ class GroupArrays:
                    "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
                    "_lagged", "_blocked", "_blocked_k", "_barred", "_freed", "_unseen_x",
                    "_unseen_last", "_has_unseen", "_end_near", "_end_nearing", "_take_shift",
-                   "_rev_turn", "_rev_way", "_rev_age")
+                   "_rev_turn", "_rev_way", "_rev_age", "_begun_at_return",
+                   "_end_returned")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

@@ -99,6 +99,7 @@ class GroupRules:
                 anchor = self._x[i].copy()
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
             came = self._x[i] - self._anchor[i]   # (set at the member's first sample)
+            returned = h == members.AFTER_END and self._end_returned[i]
             if h != members.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1
@@ -130,6 +131,7 @@ class GroupRules:
                 self._abandoned[i], self._came[i] = True, came
                 self._underway[i] = under
             self._anchor[i] = anchor
+            self._begun_at_return[i] = returned
             if h == members.AFTER_END:
                 self._take_shift[i] = shift
 
@@ -148,6 +150,7 @@ class GroupRules:
         self._drive_moved[rows] = False
         self._abandoned[rows] = False
         self._abandon_rested[rows] = False
+        self._begun_at_return[rows], self._end_returned[rows] = False, False
         self._walk[rows], self._walk_n[rows] = 0.0, 0
         self._step_prev[rows], self._step_last[rows] = 0.0, 0.0
         self._underway[rows], self._underway_rested[rows] = False, False

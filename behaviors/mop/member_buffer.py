@@ -102,6 +102,24 @@ def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
     return total / n[:, None]
 
 
+@compiled(numba.boolean(_F3, _I1, numba.intp, numba.intp, _F1, _F1, numba.float64),
+          *_CALLS_INTO)
+def rests_off(buf: np.ndarray, count: np.ndarray, i: int, last: int, point: np.ndarray,
+              radius: np.ndarray, radii: float) -> bool:
+    """Whether the mean of member ``i``'s last ``last`` buffered samples lies farther than
+    ``radii`` times ``radius`` (D,) from ``point`` (D,) in some column (spotting: re-anchored at
+    rest, :data:`~behaviors.mop.spotting.REANCHOR_RADII`)."""
+    s = buf.shape[1]
+    n = min(count[i], last)
+    for c in range(buf.shape[2]):
+        total = 0.0
+        for r in range(s - n, s):
+            total += buf[i, r, c]
+        if abs(total / n - point[c]) > radii * radius[c]:
+            return True
+    return False
+
+
 @compiled(numba.float64(_F3, _I1, numba.intp, _F1, numba.intp), *_CALLS_INTO)
 def step_length(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray,
                 dims: int) -> float:

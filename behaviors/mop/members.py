@@ -28,7 +28,7 @@ from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMP
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
-from behaviors.mop.spotting import SHARE_BACK, UNSEEN_END
+from behaviors.mop.spotting import REANCHOR_RADII, SHARE_BACK, UNSEEN_END
 from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
                                     REST_BEHIND, TAKEN_PERFORMED)
@@ -67,7 +67,8 @@ MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
-                "_underway_rested", "_has_unseen", "_straight", "_end_nearing")
+                "_underway_rested", "_has_unseen", "_straight", "_end_nearing", "_begun_at_return",
+                "_end_returned")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -126,13 +127,14 @@ def committed(shape: np.ndarray, lags: np.ndarray, flags: np.ndarray, a0: int, a
 
 @compiled(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
                    numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
-                   numba.boolean, numba.boolean), *_CALLS_INTO)
+                   numba.boolean, numba.boolean, numba.boolean), *_CALLS_INTO)
 def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, gone: bool,
          valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool,
-         unseen: bool) -> int:
+         unseen: bool, rests_off: bool) -> int:
     """:meth:`GestureSpotting._spot`'s choice (after ``_end_x`` was set this sample): one of
     :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`,
-    :data:`UNSEEN` (``unseen``: moved on from a pending end never recognised)."""
+    :data:`UNSEEN` (``unseen``: moved on from a pending end never recognised; ``rests_off``: an
+    attempt begun at an end, nothing driven since, rests off its anchor, anchored again)."""
     if has_end and (still_ or step_d2 > null2 or not ok or gone):
         return AFTER_END
     if valid and still_ and progress >= 0.9:
@@ -141,7 +143,7 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
         return UNSEEN
     if lost >= lost_samples:
         return ABANDONED
-    if still_ and not engaged:
+    if (still_ and not engaged) or rests_off:
         return WAITING
     return GOES_ON
 
@@ -398,6 +400,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                                               + anchor[i, c] / units[c])
                     acc += r * r
                 ended = math.sqrt(acc) <= RETURN_RADIUS * sk * extent[gb]
+                m_flags[20, i] = ended   # (read as a return: spotting.REANCHOR_RADII)
             if ended:
                 end_x[i] = x[i]
                 for c in range(d):
@@ -447,7 +450,10 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                                          + anchor[i, c])
             unseen = (has_unseen[i] and drive_k[i] < 0
                       and moved_on(x[i], unseen_x[i], unseen_last[i], radius))
+            off_rest = (REANCHOR_RADII > 0.0 and m_flags[19, i] and rests and drive_k[i] < 0
+                        and member_buffer.rests_off(buf, nbuf, i, int(m[6]), anchor[i], radius,
+                                                    REANCHOR_RADII))
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
-                              any_engaged[i], unseen)
+                              any_engaged[i], unseen, off_rest)
     member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
     member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)

@@ -437,6 +437,6 @@ class Recognition:
             self._ended = -1
         if self.invariance != "none":
             self._spot(valid, ok, engaged, still, bi, progress_list[bi], step_ll[bi], x, forward,
-                       offset)
+                       offset, rests)
         self._state = state
         return state

@@ -236,6 +236,19 @@ SHARE_BACK = 0.03
 #: shown, a bent jump never valid, the input moving on at 0.97 of it, showed 0.02 (held-out bent
 #: 5% progress RMSE median 0.02346 -> 0.02359).
 UNSEEN_END = True
+#: An attempt begun at an end read as a return (:meth:`GestureEnd._returned`), nothing driven
+#: since, is anchored again at the mean of the still samples where the input comes to rest
+#: (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from its anchor
+#: (0: never; follower and group, ``members.spot``). A return is read where the input passes the
+#: template's last point, often at speed: held-out seed 106's dance ankle, followed back down its
+#: path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where the wave began
+#: at rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at 0.717.
+#: ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty templates'
+#: longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281 (the wave at
+#: 0.263); every other figure identical. Measured and not kept: after any end (not only a
+#: return): a cartwheel ankle's own start, 5 mm out then a rest, re-anchored there and
+#: recognised at 0.384 (0.290; 106's twelfth sequence).
+REANCHOR_RADII = 4.0
 
 
 class GestureSpotting(GestureEnd):
@@ -304,7 +317,8 @@ class GestureSpotting(GestureEnd):
         return bool(((a.max(axis=0) - a.min(axis=0)) <= 2.0 * self._still_radius).all())
 
     def _spot(self, valid: bool, ok: bool, engaged: bool, still: bool, bi: int, progress: float,
-              step_ll: float, x: np.ndarray, forward: WindowedForward, offset: int) -> None:
+              step_ll: float, x: np.ndarray, forward: WindowedForward, offset: int,
+              rests: bool = False) -> None:
         """After a sample: start afresh when the gesture of ``bi`` ended (its end reached, or it
         rests near its end) or every template refused it; a still input waiting for a gesture
         anchors it. ``ok``: ``bi`` matched at this sample; ``progress`` and ``step_ll``: its
@@ -331,6 +345,8 @@ class GestureSpotting(GestureEnd):
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
             self._lagged = lagged
+            # (read as a return: spotting.REANCHOR_RADII)
+            self._end_returned = not ((valid and progress >= self.end) or done or lagged)
             self._end_near, self._end_nearing = self._end_x.copy(), True
         elif self._end_x is not None:
             near = np.sum((x - self._end_last) ** 2)
@@ -394,10 +410,12 @@ class GestureSpotting(GestureEnd):
             # but a closed figure's next gesture runs along it (anchors 7-11 mm off, a walk
             # ankle after the eight never recognised).
             anchor, near = self._next_anchor(x, bi), self._end_near
+            returned = self._end_returned
             self._restart_here(x, forward, offset)
             self._anchor = anchor
             self._take_shift = anchor - near
             self._ended = bi
+            self._begun_at_return = returned
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)
             self._ended = bi
@@ -415,4 +433,8 @@ class GestureSpotting(GestureEnd):
             self._abandoned, self._came = True, came
             self._underway = under
         elif still and not engaged:
+            self._restart_here(x, forward, offset, still=True)
+        elif (REANCHOR_RADII > 0 and self._begun_at_return and rests and self._drive_k < 0
+              and bool(np.any(np.abs(np.mean(self._recent_x, axis=0) - self._anchor)
+                              > REANCHOR_RADII * self._still_radius))):
             self._restart_here(x, forward, offset, still=True)
