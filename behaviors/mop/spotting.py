@@ -245,7 +245,8 @@ UNSEEN_END = True
 #: at rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at 0.717.
 #: ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty templates'
 #: longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281 (the wave at
-#: 0.263); every other figure identical. Measured and not kept: after any end (not only a
+#: 0.263); every other figure identical, and on 107-112 and in ``bench/follow_quality.py``.
+#: Traced and not kept: after any end (not only a
 #: return): a cartwheel ankle's own start, 5 mm out then a rest, re-anchored there and
 #: recognised at 0.384 (0.290; 106's twelfth sequence).
 REANCHOR_RADII = 4.0
