@@ -294,7 +294,8 @@ class GestureEnd:
         (mean; over all 0.0105 -> 0.0109); and at either ``tests/mop/test_threshold_lead.py``'s
         mirrored spin ankle no longer restarts part way: the backflip wrist followed back over it
         passes its last point at speed, and the new attempt the test's threshold model is carried
-        into never begins."""
+        into never begins. The attempt begun at a return is anchored again where the input comes
+        to rest (:data:`~behaviors.mop.spotting.REANCHOR_RADII`)."""
         if self._peak - progress < RETURN_BACK:
             return False
         r = (x - self._last_point(k)) / self._units

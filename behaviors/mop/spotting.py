@@ -237,18 +237,18 @@ SHARE_BACK = 0.03
 #: 5% progress RMSE median 0.02346 -> 0.02359).
 UNSEEN_END = True
 #: An attempt begun at an end read as a return (:meth:`GestureEnd._returned`), nothing driven
-#: since, is anchored again at the mean of the still samples where the input comes to rest
-#: (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from its anchor
-#: (0: never; follower and group, ``members.spot``). A return is read where the input passes the
-#: template's last point, often at speed: held-out seed 106's dance ankle, followed back down its
-#: path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where the wave began
-#: at rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at 0.717.
-#: ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty templates'
-#: longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281 (the wave at
-#: 0.263); every other figure identical, and on 107-112 and in ``bench/follow_quality.py``.
-#: Traced and not kept: after any end (not only a
-#: return): a cartwheel ankle's own start, 5 mm out then a rest, re-anchored there and
-#: recognised at 0.384 (0.290; 106's twelfth sequence).
+#: since, is anchored again at the mean of its last ``still_samples`` samples where the input
+#: comes to rest (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from
+#: its anchor (0: never; follower and group, ``members.spot``). A return is read where the input
+#: passes the template's last point, often at speed: held-out seed 106's dance ankle, followed
+#: back down its path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where
+#: the wave began at rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at
+#: 0.717. ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty
+#: templates' longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281
+#: (the wave at 0.263); every other figure identical, and on 107-112 and in
+#: ``bench/follow_quality.py``. Traced and not kept: after any end (not only a return), a
+#: cartwheel ankle's own start, 5 mm out then a rest, was anchored again there and recognised at
+#: 0.384 (0.290; 106's twelfth sequence).
 REANCHOR_RADII = 4.0
 
 
@@ -319,11 +319,12 @@ class GestureSpotting(GestureEnd):
 
     def _spot(self, valid: bool, ok: bool, engaged: bool, still: bool, bi: int, progress: float,
               step_ll: float, x: np.ndarray, forward: WindowedForward, offset: int,
-              rests: bool = False) -> None:
+              rests: bool) -> None:
         """After a sample: start afresh when the gesture of ``bi`` ended (its end reached, or it
         rests near its end) or every template refused it; a still input waiting for a gesture
         anchors it. ``ok``: ``bi`` matched at this sample; ``progress`` and ``step_ll``: its
-        progress and this step's log-likelihood."""
+        progress and this step's log-likelihood; ``rests``: the performer rests
+        (:func:`~behaviors.mop.tempo.resting`)."""
         # the highest progress of the action driving since it began (for _returned)
         self._peak = max(self._peak, progress) if bi == self._peak_k else progress
         # the action's progress over its last samples (handover.tempo_ended)
