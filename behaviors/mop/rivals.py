@@ -183,7 +183,10 @@ Measured and not kept (the shown valid replayed over one recorded run, 107-112,
 covered, on its path, not going back) a rival whatever its probability or breadth, the action
 not shown until it leads them all by LEAD: no seed's longest wrong run shorter (108's and
 111's are the spin's, which leads the circle in shape at its take), sized valid after 30% 0.9070
--> 0.9069 (25%), 0.9061 (30%).
+-> 0.9069 (25%), 0.9061 (30%). On 101-106 (25%; alike with the rival broader, or leading the
+action by LEAD, or both): 103's run 3 -> 2 (the punch ankle on the getup wrist), but twenty
+within 20% on 102 0.313 -> 0.281 and sized valid after 30% lower on 102, 104 and 105 (0.9036 ->
+0.9033 on 102); at 30% also 101's by the reach + 0.05 0.625 -> 0.594, sized lower on five seeds.
 """
 
 from __future__ import annotations
