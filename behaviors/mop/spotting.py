@@ -402,8 +402,9 @@ class GestureSpotting(GestureEnd):
             # more where the input stops coming closer or going forward (anchored as after any
             # end, _next_anchor): the roll back at 0.189 (tuned 0.406), but 0.313 / 0.323, runs
             # 4/3/3/3/3/4 and 4/4/3/2/3/3, and (bench/follow_quality.py, as without it) after a
-            # gesture told worst 0.072 -> 0.089 (a wander). The shape sums alone (not the forward's evidence)
-            # begun again at the first still or departed sample after that, nothing driven yet:
+            # gesture told worst 0.072 -> 0.089 (a wander). The shape sums alone (not the
+            # forward's evidence) begun again at the first still or departed sample after that,
+            # nothing driven yet:
             # 102's run 5 -> 2, but tuned 0.375, 0.313 / 0.318, runs 4/2/3/2/3/4 and 4/3/3/2/3/3,
             # sized valid after 30% at 0.7-1.4x on 102 0.9036 -> 0.9020. Both: 0.406; 0.302.
             anchor, near = self._next_anchor(x, bi), self._end_near
