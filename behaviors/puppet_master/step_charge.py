@@ -122,9 +122,12 @@ to the moment's own rate round it (its world bearing over 1 s centred) and its l
 the bearing: alone 9 / 22 / 32 = 63 (contact 30, orbit 2, still/moving 31; a run 8-11 against
 8-16; orbit mean 0.29-0.31 -> 0.27-0.28 rad/s, speed beside a still or walking main within
 0.01 m/s), its part round the main less the live main's step held instead 26 / 40 on the first
-two sets (loops orbit 17); with the count x 1.86 14 / 14 / 25 = 53 (contact 14, orbit 5,
-still/moving 34: 128-139 9 -> 18; a run 4-9), also with the state at 0.25 15 / 14 / 32 (contact
-35), at 0.25 and x 1.5 18 / 30 / 30. bench/fidelity.py --seeds 0,1,2,3,4,5: 679 -> 677 (the
+two sets (loops orbit 17); held to the moment's own orbit rate instead (its step's part round
+its main over its distance, over 1 s, as bench/fidelity.py's figure) 11 / 32 / 30 = 73 (contact
+46: the fast paths under), with the count x 1.86 12 / 19 / 29 = 60 (contact 24, orbit 5,
+still/moving 31; push rhythm off by 1.42); the bearing's hold with the count x 1.86 14 / 14 / 25
+= 53 (contact 14, orbit 5, still/moving 34: 128-139 9 -> 18; a run 4-9), also with the state at
+0.25 15 / 14 / 32 (contact 35), at 0.25 and x 1.5 18 / 30 / 30. bench/fidelity.py --seeds 0,1,2,3,4,5: 679 -> 677 (the
 hold alone: the bully's still/moving on seeds 3, 5 slow) and 677 with x 1.86 (seed 2 fast
 contact, 3 slow still/moving); with x 1.86 the bully's contact episodes on the slow and fast
 paths of seeds 0-5 are off its designer's by 1.42 a path (tests/puppet_master/
