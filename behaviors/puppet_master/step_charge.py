@@ -116,24 +116,23 @@ begun a second of its main's stands over a second of its walk: 3 of 15 in 12% of
 1). Remedies at that cause, seven runs per set as above against 82: the live main's turn beyond
 the moment's main's left out of a charge's main-frame place (with both rules at 0.25 / x 1.5) 20
 / 43 / 56 (orbit 80); the push, from the touch, at the moment's distance on the live bearing 18
-and 21 against 11 on seeds 0-5 alone (loops orbit 6, 13), not run further. Within 0.12 m of its
-main a kept charge's step after the cap, at main-frame places, with its part round the main held
-to the moment's own rate round it (its world bearing over 1 s centred) and its length kept along
-the bearing: alone 9 / 22 / 32 = 63 (contact 30, orbit 2, still/moving 31; a run 8-11 against
-8-16; orbit mean 0.29-0.31 -> 0.27-0.28 rad/s, speed beside a still or walking main within
-0.01 m/s), its part round the main less the live main's step held instead 26 / 40 on the first
-two sets (loops orbit 17); held to the moment's own orbit rate instead (its step's part round
-its main over its distance, over 1 s, as bench/fidelity.py's figure) 11 / 32 / 30 = 73 (contact
-46: the fast paths under), with the count x 1.86 12 / 19 / 29 = 60 (contact 24, orbit 5,
-still/moving 31; push rhythm off by 1.42); the bearing's hold with the count x 1.86 14 / 14 / 25
-= 53 (contact 14, orbit 5, still/moving 34: 128-139 9 -> 18; a run 4-9), also with the state at
-0.25 15 / 14 / 32 (contact 35), at 0.25 and x 1.5 18 / 30 / 30. bench/fidelity.py --seeds 0,1,2,3,4,5: 679 -> 677 (the
-hold alone: the bully's still/moving on seeds 3, 5 slow) and 677 with x 1.86 (seed 2 fast
-contact, 3 slow still/moving); with x 1.86 the bully's contact episodes on the slow and fast
-paths of seeds 0-5 are off its designer's by 1.42 a path (tests/puppet_master/
-test_pm_push_rhythm.py: 1.3 at most; the hold alone 1.0). None kept: each moves the still/moving
-misses onto other paths (the per-path ratio sits at the band's edges, 0.68-1.26), and the hold's
-gain in orbit is paid there.
+and 21 against 11 on seeds 0-5 alone (loops orbit 6, 13), not run further. Within 0.12 m of its main
+a kept charge's step after the cap, at main-frame places, with its part round the main held to the
+moment's own rate round it (its world bearing over 1 s centred) and its length kept along the
+bearing: alone 9 / 22 / 32 = 63 (contact 30, orbit 2, still/moving 31; a run 8-11 against 8-16;
+orbit mean 0.29-0.31 -> 0.27-0.28 rad/s, speed beside a still or walking main within 0.01 m/s), its
+part round the main less the live main's step held instead 26 / 40 on the first two sets (loops
+orbit 17); held to the moment's own orbit rate instead (its step's part round its main over its
+distance, over 1 s, as bench/fidelity.py's figure) 11 / 32 / 30 = 73 (contact 46: the fast paths
+under), with the count x 1.86 12 / 19 / 29 = 60 (contact 24, orbit 5, still/moving 31; push rhythm
+off by 1.42); the bearing's hold with the count x 1.86 14 / 14 / 25 = 53 (contact 14, orbit 5,
+still/moving 34: 128-139 9 -> 18; a run 4-9), also with the state at 0.25 15 / 14 / 32 (contact 35),
+at 0.25 and x 1.5 18 / 30 / 30. bench/fidelity.py --seeds 0,1,2,3,4,5: 679 -> 677 (the hold alone:
+the bully's still/moving on seeds 3, 5 slow) and 677 with x 1.86 (seed 2 fast contact, 3 slow
+still/moving); with x 1.86 the bully's contact episodes on the slow and fast paths of seeds 0-5 are
+off its designer's by 1.42 a path (tests/puppet_master/test_pm_push_rhythm.py: 1.3 at most; the
+hold alone 1.0). None kept: each moves the still/moving misses onto other paths (the per-path ratio
+sits at the band's edges, 0.68-1.26), and the hold's gain in orbit is paid there.
 """
 
 from __future__ import annotations
