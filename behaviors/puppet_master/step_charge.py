@@ -127,12 +127,16 @@ distance, over 1 s, as bench/fidelity.py's figure) 11 / 32 / 30 = 73 (contact 46
 under), with the count x 1.86 12 / 19 / 29 = 60 (contact 24, orbit 5, still/moving 31; push rhythm
 off by 1.42); the bearing's hold with the count x 1.86 14 / 14 / 25 = 53 (contact 14, orbit 5,
 still/moving 34: 128-139 9 -> 18; a run 4-9), also with the state at 0.25 15 / 14 / 32 (contact 35),
-at 0.25 and x 1.5 18 / 30 / 30. bench/fidelity.py --seeds 0,1,2,3,4,5: 679 -> 677 (the hold alone:
-the bully's still/moving on seeds 3, 5 slow) and 677 with x 1.86 (seed 2 fast contact, 3 slow
-still/moving); with x 1.86 the bully's contact episodes on the slow and fast paths of seeds 0-5 are
-off its designer's by 1.42 a path (tests/puppet_master/test_pm_push_rhythm.py: 1.3 at most; the
-hold alone 1.0). None kept: each moves the still/moving misses onto other paths (the per-path ratio
-sits at the band's edges, 0.68-1.26), and the hold's gain in orbit is paid there.
+at 0.25 and x 1.5 18 / 30 / 30, with the state at 0.25 alone 8 / 10 / 38 (still/moving 37: 128-139
+29), at 0.125 and x 1.86 10 / 22 / 15 = 47 (contact 23, orbit 11, still/moving 13; a run 3-9) but
+bench/fidelity.py 676 (the engine's alone 5 -> 8) and push rhythm off by 1.33. bench/fidelity.py
+--seeds 0,1,2,3,4,5: 679 -> 677 (the hold alone: the bully's still/moving on seeds 3, 5 slow) and
+677 with x 1.86 (seed 2 fast contact, 3 slow still/moving); with x 1.86 the bully's contact episodes
+on the slow and fast paths of seeds 0-5 are off its designer's by 1.42 a path
+(tests/puppet_master/test_pm_push_rhythm.py: 1.3 at most; the hold alone 1.0). None kept: each moves
+the still/moving misses onto other paths (the per-path ratio sits at the band's edges, 0.68-1.26),
+and the hold's gain in orbit is paid there; the hold with the state at 0.125 and the count x 1.86,
+the one with every set and figure lower, misses the push rhythm (1.33) and the bench (676).
 """
 
 from __future__ import annotations
