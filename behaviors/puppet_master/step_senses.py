@@ -332,7 +332,9 @@ class StepSenses:
         still = self._main_stands(mx, my)
         ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
         if b.scales.since > 0.0:    # the steps since the last push (features.since_step)
-            # a live push: nearer than Behavior.live_touch (why: there)
+            # a live push: nearer than Behavior.live_touch (why: there). Counted alike beside a
+            # standing main: sped up there by the demonstration's stand / walk charge ratio
+            # (1.86), measured and not kept (step_charge.py)
             self._since = ft.since_step(self._since, math.hypot(fwd, left), b.live_touch,
                                         b.since_clip)
             ft.since_row(self._xs, b.scales, self._since, ft.since_column(b.scales))
