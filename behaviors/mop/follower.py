@@ -52,7 +52,7 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 #: the step that first calls one (behaviors.kernel_cache.load; what they call is in their code).
 _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
             path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
-            reversal.reversal_size, reversal.reversal_way, reversal.went_on,
+            reversal.reversal_size, reversal.reversal_way, reversal.went_on, reversal.sizes_again,
             size_probe.probe_allowed, size_probe.take_probe,
             fresh_refusal.refuse, speed_profile.outpaces, speed_profile.turns_on,
             halts.halts)
@@ -275,9 +275,10 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
             self._fresh = np.zeros(k, dtype=bool)   # judged afresh (fresh_refusal)
             self._probe = np.zeros((k, 3))   # behaviors.mop.size_probe
             self._rev_undo = np.zeros(k)   # the last reversal's sizes in num (_reversal_sizes)
+            self._rev_at = np.zeros(k)   # the landmark (state) its turn first met, -1: none
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
                   self._entries, self._num, self._den, self._least, self._at_hold_end,
-                  self._probe, self._fresh, self._rev_undo):
+                  self._probe, self._fresh, self._rev_undo, self._rev_at):
             a.fill(0)
         # the last reversal's turn (from the anchor, units), the way into it and the samples
         # since (-1: none pending; PerformanceFrame._reversal_sizes)

@@ -34,7 +34,8 @@ from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, 
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.reversal import REVERSAL_LARGER_AHEAD, reversal_size, reversal_step
+from behaviors.mop.reversal import (REVERSAL_LARGER_AHEAD, reversal_size, reversal_step,
+                                    sizes_again)
 from behaviors.mop.member_validity import slow_of
 from behaviors.mop.members import committed, shares
 from behaviors.mop.path_kernel import nearest_on_path
@@ -110,6 +111,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
     rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
+    rev_at = floats[16]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -158,11 +160,12 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                                 and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
         turned = False   # the input reverses here (PerformanceFrame._reversal_sizes) ...
         undone = False   # ... or went on past the last reversal's turn: its sizes undone
+        again = False   # ... the same turn read again
         if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]
-            undone, turned = reversal_step(buf, nbuf, i, x, anchor[i], tu, m[23], dxu, tr,
-                                           rev_turn, rev_way, rev_age)
+            undone, turned, again = reversal_step(buf, nbuf, i, x, anchor[i], tu, m[23], dxu,
+                                                  tr, rev_turn, rev_way, rev_age)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 prefetch_ahead(states, flat, ti, mean, k + AHEAD, before, after, d, n_states)
@@ -189,6 +192,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if undone:
                 num[k] -= rev_undo[k]
             was = num[k]
+            if turned and not again:   # the landmark the turn first met
+                rev_at[k] = reversal_at[gs]
             # ... and a reversal's (_reversal_sizes), but not the strained action driving's
             # (Refusal._recent_dist2)
             if turned and reversal_at[gs] >= 0 and not (
@@ -200,6 +205,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 sr = reversal_size(hq, tr, lo, hi, reversal_tol[k])
                 if reversal_at[gs] - gi > REVERSAL_LARGER_AHEAD and sr >= size[k]:
                     sr = 0.0   # a landmark beyond it sizes smaller only
+                if again and not sizes_again(float(reversal_at[gs]), rev_at[k], sr, size[k]):
+                    sr = 0.0
                 if sr > 0.0:
                     num[k] = sr * (den[k] + t[2]) - t[2]
             if turned:

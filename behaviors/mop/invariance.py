@@ -172,7 +172,7 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank
 from behaviors.mop.reversal import (REVERSAL_LAG, REVERSAL_LARGER_AHEAD, REVERSAL_MOVE,
                                     REVERSAL_UNDO_SAMPLES, input_reversal, reversal_map,
-                                    reversal_size, reversal_way, went_on)
+                                    reversal_size, reversal_way, sizes_again, went_on)
 from behaviors.mop.size_probe import PROBE_FLOOR, probe_allowed, take_probe
 
 INVARIANCES = ("scale", "offset", "none")
@@ -365,7 +365,8 @@ class PerformanceFrame:
         template whose followed state ``gi`` has a reversal near (:func:`reversal_map`) takes
         the size that puts the input's reversal on it (:func:`reversal_size`), in place on the
         size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does; those sizes
-        are undone when the input goes on past the turn the way it came (:func:`went_on`)."""
+        are undone when the input goes on past the turn the way it came (:func:`went_on`). The
+        same turn read again sizes at another landmark only near the size (:func:`sizes_again`)."""
         recent = self._recent_x
         if self.invariance != "scale":
             return
@@ -380,13 +381,17 @@ class PerformanceFrame:
         if len(recent) < 2 * REVERSAL_LAG:
             return
         buf = np.array(recent[-2 * REVERSAL_LAG:])[None]
+        last = self._rev_turn.copy()
         if not input_reversal(buf, np.array([len(recent)], dtype=np.intp), 0, x[None],
                               self._anchor, self._units, self._reversal_move2, self._rev_turn):
             return
+        again = bool(np.array_equal(last, self._rev_turn))   # the last turn read again
         reversal_way(buf, 0, self._units, self._rev_way)
         self._rev_age = 0
         before = self._num.copy()
         at = self._reversal_at[gi]
+        if not again:   # the landmarks the turn first met
+            self._rev_at[:] = at
         lo, hi = self.scale_range
         for k in np.flatnonzero(at >= 0).tolist():
             if k == self._acquired and self._recent_dist2(k) > self._accept2:   # strained
@@ -394,6 +399,9 @@ class PerformanceFrame:
             s = reversal_size(self._rel[at[k]], self._rev_turn, lo, hi,
                               float(self._reversal_tol[k]))
             if at[k] - gi[k] > REVERSAL_LARGER_AHEAD and s >= self._size[k]:   # smaller only
+                continue
+            if again and not sizes_again(float(at[k]), float(self._rev_at[k]), s,
+                                         float(self._size[k])):
                 continue
             if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
                 self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]

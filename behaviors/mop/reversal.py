@@ -247,6 +247,27 @@ def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float
     return s if e2 <= (tol * s) ** 2 else 0.0
 
 
+#: A turn read again on the samples after it (the same turn sample, :func:`input_reversal`)
+#: while the followed state has moved on to another landmark sizes its template there only
+#: within this factor of its size: a 1.4x getup wrist turned 28 mm out, sized 1.36 at its
+#: landmark 20.6 mm out (state 43), was read again two samples later against the next one
+#: (43.6 mm, state 53) and sized 0.65, then followed at its start (held-out seed 101, valid
+#: after 30% .136 -> .667). Where the first landmark met was the wrong one (a state just past
+#: the kick wrist's second turn maps to its first, 4 states before) the next sizes it right
+#: (107's 1.2x kick wrist .56 -> .84, sized 1.05 -> 1.40; at 1.2 several kick wrists sized
+#: 0.7-0.8 first are kept there, 102 .9036 -> .8995, 106 .9015 -> .8927; never resizing at
+#: another landmark: the same).
+REVERSAL_AGAIN = 1.5
+
+
+@compiled(numba.boolean(numba.float64, numba.float64, numba.float64, numba.float64))
+def sizes_again(at: float, first: float, s: float, size: float) -> bool:
+    """Whether a turn read again may size its template to ``s`` at landmark ``at`` (its state)
+    when it first met landmark ``first``: at that one, or within :data:`REVERSAL_AGAIN` of its
+    ``size``."""
+    return at == first or (s < REVERSAL_AGAIN * size and s * REVERSAL_AGAIN > size)
+
+
 @compiled(numba.void(numba.float64[:, :, ::1], numba.intp, numba.float64[::1],
                      numba.float64[::1]))
 def reversal_way(buf: np.ndarray, i: int, units: np.ndarray, out: np.ndarray) -> None:
@@ -279,19 +300,21 @@ def went_on(r: np.ndarray, turn: np.ndarray, way: np.ndarray, move2: float) -> b
     return along > math.sqrt(move2) and along > REVERSAL_UNDO_COS * math.sqrt(w2)
 
 
-@compiled(numba.types.UniTuple(numba.boolean, 2)(
+@compiled(numba.types.UniTuple(numba.boolean, 3)(
     numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
     numba.float64[::1], numba.float64[::1], numba.float64, numba.float64[::1],
     numba.float64[::1], numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1]))
 def reversal_step(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, anchor: np.ndarray,
                   units: np.ndarray, move2: float, r: np.ndarray, out: np.ndarray,
-                  turn: np.ndarray, way: np.ndarray, age: np.ndarray) -> tuple[bool, bool]:
+                  turn: np.ndarray, way: np.ndarray, age: np.ndarray) -> tuple[bool, bool, bool]:
     """Member ``i``'s reversal at this sample, for the group: whether the last one's sizes are
     undone (the input ``r`` went on past its turn, :func:`went_on`, within
     :data:`REVERSAL_UNDO_SAMPLES`) and whether the input reverses here (:func:`input_reversal`,
-    its turn in ``out``). In place per member: ``turn``, ``way`` (M, D: the last reversal's turn
-    and the way into it, units) and ``age`` (M,: samples since it, -1 when none is pending)."""
+    its turn in ``out``), and whether that turn is the last one read again. In place per member:
+    ``turn``, ``way`` (M, D: the last reversal's turn and the way into it, units) and ``age``
+    (M,: samples since it, -1 when none is pending)."""
     undone = False
+    again = False
     if age[i] >= 0:
         age[i] += 1
         undone = went_on(r, turn[i], way[i], move2)
@@ -299,8 +322,10 @@ def reversal_step(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, anc
             age[i] = -1
     turned = input_reversal(buf, count, i, x, anchor, units, move2, out)
     if turned:
+        again = True
         for c in range(x.shape[1]):
+            again = again and turn[i, c] == out[c]
             turn[i, c] = out[c]
         reversal_way(buf, i, units, way[i])
         age[i] = 0
-    return undone, turned
+    return undone, turned, again
