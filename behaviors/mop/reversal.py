@@ -84,21 +84,7 @@ REVERSAL_UNDO_COS = 0.7
 #: cartwheel's 3.9 mm turn then covers its first states: 1.0x ones sized 1.40). Each state's
 #: nearest landmark rather than its first (a backflip ankle's second wiggle matched to its
 #: first turn, 1.21 -> 0.85): .8887 .8778 .8990 .8896 .8887 .8961, tuned .9128.
-#: The same turn is read again on the samples after it (its turn sample unchanged) while the
-#: followed state moves on, and sizes against whichever landmark the state then maps to: a
-#: 1.4x getup wrist turned 28 mm out, sized 1.36 at its landmark 20.6 mm out (state 43), was
-#: read again two samples later against the next (43.6 mm, state 53), sized 0.65 and then
-#: followed at its start (held-out 101, valid after 30% .136). Not kept, the turn read again
-#: sizing at another landmark than the one it first met only within 1.5x of the size (follower
-#: and group kernel): held-out sized 101 .9130 -> .9183 (that getup .136 -> .667), 107 .9127
-#: -> .9155 (a 1.2x kick wrist .56 -> .84), every other figure of bench/follow_seeds.py
-#: --sections=sized,unrelated,sequences on 101-112 the same but 112's twenty templates'
-#: longest wrong run 2 -> 3 (a punch 3 ticks at a getup's start: the sequence took another
-#: course from a kick's end on, 4 wrong ticks -> 3); bench/follow_quality.py: 0.6 / 1.5x
-#: .7450 -> .7621 (a 1.5x getup wrist 0 -> .683, RMSE p90 .244 -> .117), aspect 1.1 .880 ->
-#: .895, nothing lower. At 1.2x, or never at another landmark: kick wrists first met at their
-#: first turn (4 states before the second the state lies past) stay sized there, 102 .9036
-#: -> .8995, 106 .9015 -> .8927; a turn sizing only once: 106 .8911, 108 .8945.
+#: The same turn read again while the followed state moves on: :data:`REVERSAL_AGAIN`.
 REVERSAL_BEHIND = 6
 #: A line drawn 0.7x, followed at size 1, turns back 6.5 states short of its turn (state 23 of
 #: 46); at 6 ahead its return was then followed backwards. Sized 0.7-1.4x valid after 30%
@@ -256,7 +242,13 @@ def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float
 #: the kick wrist's second turn maps to its first, 4 states before) the next sizes it right
 #: (107's 1.2x kick wrist .56 -> .84, sized 1.05 -> 1.40; at 1.2 several kick wrists sized
 #: 0.7-0.8 first are kept there, 102 .9036 -> .8995, 106 .9015 -> .8927; never resizing at
-#: another landmark: the same).
+#: another landmark: the same; a turn sizing only once: 106 .8911, 108 .8945). Held-out sized
+#: valid after 30% (bench/follow_seeds.py --sections=sized,unrelated,sequences) 101 .9130 ->
+#: .9183, 107 .9127 -> .9155, every other seed's the same; bench/follow_quality.py held-out
+#: 0.6 / 1.5x .7450 -> .7621 (a 1.5x getup wrist 0 -> .683, progress RMSE p90 .244 -> .117),
+#: aspect 1.1 .880 -> .895, nothing lower. Price, taken: 112's twenty templates' longest wrong
+#: run 2 -> 3 (the rule rightly keeps a kick's size at tick 33; the sequence then takes another
+#: course, 4 wrong ticks -> 3 in all, one of them a punch 3 ticks at a getup's still start).
 REVERSAL_AGAIN = 1.5
 
 
