@@ -424,8 +424,8 @@ class GenerationStep(StepMatch):
                 # 2 s (1 s halves within 0.75 rad) 82 (loops 23): nearer its place when its main
                 # stops, it moves less in the stand (seed 3 loops 0.055 -> 0.041 m/s, shown 0.059).
                 # With the still cap on the smoothed step (step_detail.py) 7 / 45 / 23 (orbit 21,
-                # speed 18, still/moving 38 -> 36), per run 8-19 -> 8-13, but 0.6 / 0.9 rad/s 84 /
-                # 101, over 0.5 s 72 (slow still/moving 35): the re-drawing's spread. Not kept
+                # speed 18, still/moving 38 -> 36), but seeds 300-311 52 -> 53, 0.6 / 0.9 rad/s 84
+                # / 101, over 0.5 s 72 (slow still/moving 35): the re-drawing's spread. Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
