@@ -417,7 +417,15 @@ class GenerationStep(StepMatch):
                 # speed 19, still/moving loops 19, slow 25 -> 29; all the lover's misses with its
                 # designer's 473 -> 508): beside a looping main it walks faster than shown (the
                 # loops' ratio under 0.293); within 0.1 rad 29 / 65 / 24 (orbit 30, speed 37).
-                # Each re-draws the still/moving misses. Not kept
+                # Each re-draws the still/moving misses. Beside a turning main (the two 0.25 s
+                # halves over 0.25 rad) held to the moment's speed 14 / 46 / 25 (loops 11 -> 21);
+                # the turn read over 1 / 1.5 s 96 / 89; the correction in what the moment's motion
+                # leaves of this cap, while the live main walks, 28 / 42 / 27 (loops 44). Read over
+                # 2 s (1 s halves within 0.75 rad) 82 (loops 23): nearer its place when its main
+                # stops, it moves less in the stand (seed 3 loops 0.055 -> 0.041 m/s, shown 0.059).
+                # With the still cap on the smoothed step (step_detail.py) 7 / 45 / 23 (orbit 21,
+                # speed 18, still/moving 38 -> 36), but seeds 300-311 52 -> 53, 0.6 / 0.9 rad/s 84
+                # / 101, over 0.5 s 72 (slow still/moving 35): the re-drawing's spread. Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
