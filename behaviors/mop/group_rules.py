@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import bends, member_validity, members, tempo, threshold, under_way
+from behaviors.mop import (bends, member_spotting, member_validity, members, tempo, threshold,
+                          under_way)
 from behaviors.mop.group_layout import FLAGS, FLOATS
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
@@ -74,15 +75,16 @@ class GroupRules:
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now
-        (``how``: :data:`members.GOES_ON` and the rest per member, as :func:`members.conclude`
-        chose; ``gb``: each member's best template, group index). Member by member, its own
-        templates a slice of the group's arrays: as masks and fancy indexing over the group
-        (about 40 numpy calls) it took 0.31-0.32 ms thread time on the ticks where one starts,
-        this way 0.095-0.098 ms (DESIGN's 8 x 100 templates, 20 of 900 ticks, load 7-9)."""
+        (``how``: :data:`member_spotting.GOES_ON` and the rest per member, as
+        :func:`members.conclude` chose; ``gb``: each member's best template, group index).
+        Member by member, its own templates a slice of the group's arrays: as masks and fancy
+        indexing over the group (about 40 numpy calls) it took 0.31-0.32 ms thread time on the
+        ticks where one starts, this way 0.095-0.098 ms (DESIGN's 8 x 100 templates, 20 of 900
+        ticks, load 7-9)."""
         for i, h in enumerate(how.tolist()):
-            if h == members.GOES_ON:
+            if h == member_spotting.GOES_ON:
                 continue
-            if h == members.AFTER_END:
+            if h == member_spotting.AFTER_END:
                 # where the end was reached, or the ended template's last point at its size
                 # while the input was still coming closer to it (GestureSpotting._spot)
                 anchor = self._end_x[i].copy()
@@ -90,20 +92,20 @@ class GroupRules:
                 if np.sum((self._x[i] - last) ** 2) < np.sum((anchor - last) ** 2):
                     anchor = last
                 shift = anchor - self._end_near[i]   # (take_rule.TAKE_FROM_NEAREST)
-            elif h == members.UNSEEN:
+            elif h == member_spotting.UNSEEN:
                 anchor = self._unseen_x[i].copy()   # where it was followed to its end
-            elif h == members.WAITING:
+            elif h == member_spotting.WAITING:
                 anchor = members.recent_mean(self._buf[i:i + 1], self._nbuf[i:i + 1],
                                              self._m_keep[i:i + 1])[0]
             else:
                 anchor = self._x[i].copy()
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
             came = self._x[i] - self._anchor[i]   # (set at the member's first sample)
-            returned = h == members.AFTER_END and self._end_returned[i]
-            if h != members.WAITING:
+            returned = h == member_spotting.AFTER_END and self._end_returned[i]
+            if h != member_spotting.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1
-            if h in (members.AFTER_END, members.RESTING, members.UNSEEN):
+            if h in (member_spotting.AFTER_END, member_spotting.RESTING, member_spotting.UNSEEN):
                 self._ended[i] = gb[i] - self._bounds[i]
             # every template of this member at its first state, no evidence
             cols = self._slices[i]
@@ -122,17 +124,17 @@ class GroupRules:
                 getattr(self, n)[cols] = 1.0
             # begun under way (under_way.underway): read over the attempt abandoned, before
             # that is forgotten
-            under = h == members.ABANDONED and under_way.underway(
+            under = h == member_spotting.ABANDONED and under_way.underway(
                 float(self._step_prev[i]), float(self._step_last[i]), float(self._walk[i]),
                 int(self._walk_n[i]))
             self._forget_members(i)   # the threshold model starts afresh with the evidence,
             self._thr_ev[i] = lead      # ... but for its lead
-            if h == members.ABANDONED:   # the input's way here (validity.unbegun)
+            if h == member_spotting.ABANDONED:   # the input's way here (validity.unbegun)
                 self._abandoned[i], self._came[i] = True, came
                 self._underway[i] = under
             self._anchor[i] = anchor
             self._begun_at_return[i] = returned
-            if h == members.AFTER_END:
+            if h == member_spotting.AFTER_END:
                 self._take_shift[i] = shift
 
     def _forget_members(self, rows: np.ndarray | int) -> None:

@@ -8,9 +8,9 @@ member's first template), per-member arrays ``(M,)`` or ``(M, D)`` (``D`` the wi
 features, narrower members padded with values that change nothing). Each function states the
 follower method it equals; ``tests/mop/test_group.py`` checks them and the group against
 followers stepped alone; the rules applied before the conclusion (turning, tempo, a way back to
-an abandonment's anchor) are in :mod:`behaviors.mop.member_validity`. Compiled: as array
-operations over the members (about 90 numpy calls on arrays of 8) they cost more than the
-per-template pass.
+an abandonment's anchor) are in :mod:`behaviors.mop.member_validity`, the spotting choices
+asked at the end in :mod:`behaviors.mop.member_spotting`. Compiled: as array operations over
+the members (about 90 numpy calls on arrays of 8) they cost more than the per-template pass.
 """
 
 from __future__ import annotations
@@ -20,15 +20,18 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import (blocked, gesture_end, handover, member_buffer, member_validity,
-                           overrun, path_kernel, shape_lead, spotting, take_fit, tempo, validity)
+from behaviors.mop import (blocked, gesture_end, handover, member_buffer, member_spotting,
+                           member_validity, overrun, path_kernel, shape_lead, spotting, take_fit,
+                           tempo, validity)
 from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
-from behaviors.mop.gesture_end import END_GRACE, MOVE_RADII, RETURN_BACK, RETURN_RADIUS
-from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
+from behaviors.mop.gesture_end import END_GRACE, RETURN_BACK, RETURN_RADIUS
+from behaviors.mop.handover import TEMPO_END_FROM
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
+from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, moved_on, shares,
+                                          spot)
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
-from behaviors.mop.spotting import REANCHOR_RADII, SHARE_BACK, UNSEEN_END
+from behaviors.mop.spotting import REANCHOR_RADII, UNSEEN_END
 from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
                                     REST_BEHIND, TAKEN_PERFORMED)
@@ -36,18 +39,13 @@ from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
 # and take_fit's through member_validity's)
-_CALLS_INTO = (blocked, gesture_end, handover, member_buffer, member_validity, overrun,
-               path_kernel, shape_lead, spotting, take_fit, tempo, validity)
+_CALLS_INTO = (blocked, gesture_end, handover, member_buffer, member_spotting, member_validity,
+               overrun, path_kernel, shape_lead, spotting, take_fit, tempo, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 _BB2 = numba.boolean[:, ::1]
 
-#: How a member's new attempt starts (:meth:`GestureSpotting._spot`): none; its gesture ended
-#: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
-#: every template was refused too long; the input is still and waiting (anchored at its mean);
-#: it moved on from where a template never valid was followed to its end (:data:`UNSEEN_END`).
-GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING, UNSEEN = range(6)
 #: Per-member scalars (columns of ``mk`` (M, 14 + 2D), then the rows ``radius`` and ``units``).
 MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep",
                 "hint_onset", "end", "null2", "depart2", "lost_after", "dims", "memory")
@@ -72,28 +70,6 @@ MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
-
-
-@compiled(numba.boolean(_F1, _F1, _F1, _F1), *_CALLS_INTO)
-def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: np.ndarray) -> bool:
-    """:meth:`GestureSpotting._moved_on`: farther from the template's last point ``last`` (D,)
-    than the end ``end_x`` was, by more than ``MOVE_RADII`` still radii in some column."""
-    for c in range(x.size):
-        if abs(x[c] - last[c]) > abs(end_x[c] - last[c]) + MOVE_RADII * still_radius[c]:
-            return True
-    return False
-
-
-@compiled(numba.boolean(_F1, _F1, _F1, numba.float64, numba.float64), *_CALLS_INTO)
-def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float,
-             limit2: float) -> bool:
-    """:meth:`GestureSpotting._departed`: the mean over ``dims`` columns of
-    ``((x - end_x) / spread)^2`` at least ``limit2`` (``(distance sigma)^2``)."""
-    acc = 0.0
-    for c in range(x.size):
-        r = (x[c] - end_x[c]) / spread[c]
-        acc += r * r
-    return acc / dims >= limit2
 
 
 @compiled(numba.intp(_F1, numba.float64[:, :], numba.boolean[:, ::1], numba.intp, numba.intp,
@@ -123,53 +99,6 @@ def committed(shape: np.ndarray, lags: np.ndarray, flags: np.ndarray, a0: int, a
         if k != c and not refused[k] and shape[k] - shape[c] < lead:
             return -1
     return c
-
-
-@compiled(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
-                   numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
-                   numba.boolean, numba.boolean, numba.boolean), *_CALLS_INTO)
-def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, gone: bool,
-         valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool,
-         unseen: bool, rests_off: bool) -> int:
-    """:meth:`GestureSpotting._spot`'s choice (after ``_end_x`` was set this sample): one of
-    :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`,
-    :data:`UNSEEN` (``unseen``: moved on from a pending end never recognised; ``rests_off``: an
-    attempt begun at an end, nothing driven since, rests off its anchor, anchored again)."""
-    if has_end and (still_ or step_d2 > null2 or not ok or gone):
-        return AFTER_END
-    if valid and still_ and progress >= 0.9:
-        return RESTING
-    if unseen and not has_end:
-        return UNSEEN
-    if lost >= lost_samples:
-        return ABANDONED
-    if (still_ and not engaged) or rests_off:
-        return WAITING
-    return GOES_ON
-
-
-@compiled(numba.boolean(numba.float64, numba.float64, numba.boolean), *_CALLS_INTO)
-def finished_short(peak: float, progress: float, crawls: bool) -> bool:
-    """:func:`behaviors.mop.handover.finished` (its :data:`FINISH_CRAWLS` as compiled): the
-    action driving, at highest progress ``peak``, ended though never reaching its end."""
-    return peak >= FINISH_FROM and (peak - progress >= FINISH_BACK or (crawls and FINISH_CRAWLS))
-
-
-@compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
-                      _F1, _F1), *_CALLS_INTO)
-def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, refused: np.ndarray,
-           misshaped: np.ndarray, progress: np.ndarray, gone: np.ndarray) -> bool:
-    """:meth:`GestureSpotting._shares`: whether template ``k`` (group index; its member's
-    templates ``a0..a1``) at its own state ``state`` is still within its start shared with
-    another of them neither refused, misshaped nor going back. ``shared``: every member's
-    :func:`~behaviors.mop.sharing.shared_until` matrix flattened, this member's from ``at``."""
-    n = a1 - a0
-    row = at + (k - a0) * n
-    for j in range(a0, a1):
-        if (j != k and shared[row + j - a0] >= state and not refused[j] and not misshaped[j]
-                and progress[j] >= gone[j] - SHARE_BACK):
-            return True
-    return False
 
 
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F2, _BB2, _F2, _F1, _B1, _F2, _F2, _F3, _B1, _F2,

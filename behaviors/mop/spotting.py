@@ -236,19 +236,18 @@ SHARE_BACK = 0.03
 #: shown, a bent jump never valid, the input moving on at 0.97 of it, showed 0.02 (held-out bent
 #: 5% progress RMSE median 0.02346 -> 0.02359).
 UNSEEN_END = True
-#: An attempt begun at an end read as a return (:meth:`GestureEnd._returned`), nothing driven
-#: since, is anchored again at the mean of its last ``still_samples`` samples where the input
-#: comes to rest (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from
-#: its anchor (0: never; follower and group, ``members.spot``). A return is read where the input
-#: passes the template's last point, often at speed: held-out seed 106's dance ankle, followed
-#: back down its path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where
-#: the wave began at rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at
-#: 0.717. ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty
-#: templates' longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281
-#: (the wave at 0.263); every other figure identical, and on 107-112 and in
-#: ``bench/follow_quality.py``. Traced and not kept: after any end (not only a return), a
-#: cartwheel ankle's own start, 5 mm out then a rest, was anchored again there and recognised at
-#: 0.384 (0.290; 106's twelfth sequence).
+#: An attempt begun at an end read as a return (:meth:`GestureEnd._returned`), nothing driven since,
+#: is anchored again at the mean of its last ``still_samples`` samples where the input comes to rest
+#: (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from its anchor (0:
+#: never; follower and group, ``member_spotting.spot``). A return is read where the input passes the
+#: template's last point, often at speed: held-out seed 106's dance ankle, followed back down its
+#: path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where the wave began at
+#: rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at 0.717.
+#: ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty templates'
+#: longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281 (the wave at
+#: 0.263); every other figure identical, and on 107-112 and in ``bench/follow_quality.py``. Traced
+#: and not kept: after any end (not only a return), a cartwheel ankle's own start, 5 mm out then a
+#: rest, was anchored again there and recognised at 0.384 (0.290; 106's twelfth sequence).
 REANCHOR_RADII = 4.0
 
 

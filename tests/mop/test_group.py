@@ -8,7 +8,7 @@ from bench import synthetic_actions as g
 import numpy as np
 import pytest
 
-from behaviors.mop import group_steps, members, take_rule
+from behaviors.mop import group_steps, member_spotting, members, take_rule
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup, _new_state
 from behaviors.mop.follower_validity import Validity
@@ -161,10 +161,10 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
         for _ in range(300):
             x = f._end_x + rng.normal(size=2) * rng.choice([1.0, 3.0, 10.0]) * f._still_radius
             want = f._moved_on(x, k)
-            assert members.moved_on(x, f._end_x, last, f._still_radius) == want
+            assert member_spotting.moved_on(x, f._end_x, last, f._still_radius) == want
             d = math.sqrt(np.mean(((x - f._end_x) / spread) ** 2)) / f.sigma \
                 * rng.uniform(0.8, 1.25)
-            assert members.departed(x, f._end_x, spread, 2.0, (d * f.sigma) ** 2) \
+            assert member_spotting.departed(x, f._end_x, spread, 2.0, (d * f.sigma) ** 2) \
                 == f._departed(x, k, d)
             moved += want
             gone += f._departed(x, k, f.accept_distance)
