@@ -23,9 +23,10 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_layout,
-                           group_steps, holding, invariance, member_validity, members, misfit_size,
-                           path_kernel, reversal, rivals, shape_lead, size_probe, size_sums,
-                           spotting, tempo, threshold, threshold_kernel, validity)
+                           group_steps, holding, invariance, member_spotting, member_validity,
+                           members, misfit_size, path_kernel, reversal, rivals, shape_lead,
+                           size_probe, size_sums, spotting, tempo, threshold, threshold_kernel,
+                           validity)
 from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
@@ -37,7 +38,8 @@ from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.reversal import (REVERSAL_LARGER_AHEAD, reversal_size, reversal_step,
                                     sizes_again)
 from behaviors.mop.member_validity import slow_of
-from behaviors.mop.members import committed, shares
+from behaviors.mop.member_spotting import shares
+from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
@@ -51,9 +53,9 @@ from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, fresh_refusal, group_layout,
-               group_steps, holding, invariance, member_validity, members, misfit_size, path_kernel,
-               reversal, rivals, shape_lead, size_probe, size_sums, spotting, tempo, threshold,
-               threshold_kernel, validity)
+               group_steps, holding, invariance, member_spotting, member_validity, members,
+               misfit_size, path_kernel, reversal, rivals, shape_lead, size_probe, size_sums,
+               spotting, tempo, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
