@@ -137,6 +137,12 @@ on the slow and fast paths of seeds 0-5 are off its designer's by 1.42 a path
 the still/moving misses onto other paths (the per-path ratio sits at the band's edges, 0.68-1.26),
 and the hold's gain in orbit is paid there; the hold with the state at 0.125 and the count x 1.86,
 the one with every set and figure lower, misses the push rhythm (1.33) and the bench (676).
+The state's weight between, with the hold and x 1.86: at 0.1375 / 0.15 / 0.1625 / 0.175 / 0.2
+54 / 32 / 56 / 57 / 68 (still/moving 33 / 21 / 34 / 25 / 34); without the count, at 0.15 /
+0.175 / 0.2, 68 / 72 / 57 (still/moving 36-40). At 0.15: 9 / 12 / 11 (contact 11, orbit 0; a
+run 2-6 against 8-16), push rhythm off by 1.08 (fast -0.83), but seeds 0-5's still/moving 7 -> 9
+and bench/fidelity.py 677 (the bully's still/moving on seeds 1 slow, 3 loops). Not kept: a dip
+its neighbours (54, 56) do not share, and the bench's still/moving lost.
 """
 
 from __future__ import annotations
