@@ -32,9 +32,8 @@ from behaviors.mop import (glitch, halts, overrun, path_kernel, reversal, size_p
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import (OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, glitch_limits,
                                   path_distance)
-from behaviors.mop.holding import HOLD_AHEAD, hold_maps
-from behaviors.mop.hmm import (HOLD_DWELL, TemplateError, Transitions, build_bank,
-                               rest_holdable)
+from behaviors.mop.holding import hold_maps
+from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.recognition import Recognition
@@ -45,8 +44,6 @@ from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
 from behaviors.mop.state import FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.tempo import resting, stopped
-from behaviors.mop.validity import carried
 from behaviors.mop.follower_validity import Validity
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
@@ -172,8 +169,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._zdim = int(self._fbank.means.shape[1])
         moves = Transitions(tuple(transitions), backward, restart, float(dwell))
         self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
-                                       transitions=moves, floor=floor,
-                                       holdable=rest_holdable(self._fbank, HOLD_AHEAD))
+                                       transitions=moves, floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
         self._null2 = self.null_distance ** 2
@@ -256,7 +252,6 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._state = None
         self._anchor: np.ndarray | None = None
         self._recent_x: list[np.ndarray] = []
-        self._rest_run = 0   # rest reads in a row (tempo.stopped)
         self._tempo_past: list[tuple[np.ndarray, np.ndarray]] = []   # (mean, x) per sample
         self._overran_k = -1   # the template that overran at the last sample (overrun.overruns)
         self._crawl, self._crawl_k = 0, -1   # samples in a row best crawled (tempo.crawls)
@@ -382,16 +377,8 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
             return self._held()
         self._last_x = x.copy()
         fw = self.forward
-        # a pause of the action driving, once it carried its performer forward and really
-        # stopped: its state held (hmm.REST_HOLD, tempo.stopped); the rest read once
-        recent = self._recent_x[1 - self.still_samples:] + [x]
-        rest = resting(recent, self._still_radius)
-        self._rest_run = self._rest_run + 1 if rest else 0
-        held = (stopped(recent, self._still_radius, self._rest_run)
-                and carried(self._acquired, self._drive_from, self._drive_peak,
-                            self._drive_moved))
-        step_ll = fw.step(self._inputs(x), self._acquired if held else -1)
-        return self._finish(step_ll, fw, 0, fw.entries, x, rest)
+        step_ll = fw.step(self._inputs(x))
+        return self._finish(step_ll, fw, 0, fw.entries, x)
 
     def _glitch(self, x: np.ndarray) -> bool:
         """Whether the finite sample x is a glitch to hold (module docstring); counts it."""

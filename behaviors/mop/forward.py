@@ -42,8 +42,7 @@ class WindowedForward:
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
                  transitions: Transitions = Transitions(), floor: float = 1e-8,
-                 dims: np.ndarray | None = None, stay: np.ndarray | None = None,
-                 holdable: np.ndarray | None = None, owner: np.ndarray | None = None) -> None:
+                 dims: np.ndarray | None = None, stay: np.ndarray | None = None) -> None:
         if not (sigma > 0 and math.isfinite(sigma)):
             raise ValueError(f"sigma must be a positive number, got {sigma}")
         if int(half_window) < 1:
@@ -75,13 +74,6 @@ class WindowedForward:
         # ``stay`` (states,) given: a group's, each member's own)
         self._stay = (dwell_states(bank, transitions.dwell) if stay is None
                       else np.ascontiguousarray(stay, dtype=float))
-        # the states held while their performer rests (hmm.rest_holdable; none given: none)
-        self._holdable = (np.zeros(len(bank.means), dtype=bool) if holdable is None
-                          else np.ascontiguousarray(holdable, dtype=bool))
-        # whose performer each template follows (``owner`` (K,) given: a group's members)
-        self._owner = (np.zeros(k, dtype=np.int64) if owner is None
-                       else np.ascontiguousarray(owner, dtype=np.int64))
-        self._held = np.full(int(self._owner.max(initial=0)) + 1, -1, dtype=np.int64)
         # step_windows' scratch: seven windows rounded up to whole vectors of eight states
         self._scratch = np.empty((7, (self._w + 7) // 8 * 8))
         self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) \
@@ -132,21 +124,17 @@ class WindowedForward:
         s = np.concatenate([self._s, self._s])
         return np.concatenate([self._a, self._b]) / s[:, None]
 
-    def step(self, z: np.ndarray, held: int | np.ndarray = -1) -> np.ndarray:
+    def step(self, z: np.ndarray) -> np.ndarray:
         """Advance every template by one standardised sample z (d,), or by one sample per
-        template (K, d); returns the step's log-likelihood per template (K,). ``held``: the
-        template the performer drives while they rest (-1: none; one, or one per ``owner``),
-        held where it lies ahead of the still input (:data:`~behaviors.mop.hmm.REST_HOLD`).
-        Updates ``mean`` (progress in states), ``var`` (states squared), ``lo`` (window start)
-        and ``entries`` (re-entries so far)."""
+        template (K, d); returns the step's log-likelihood per template (K,). Updates ``mean``
+        (progress in states), ``var`` (states squared), ``lo`` (window start) and ``entries``
+        (re-entries so far)."""
         np.multiply(z, self._prescale, out=self._z)
-        self._held[:] = held
         step_windows(self._means, self._starts, self._wk, self._max_lo, self._start_tail, self._z,
                      self._a, self._b, self._s, self.lo, self.mean, self._mom, self.entries,
                      self._fresh, self.half_window, self._back, self._fwd,
                      self.transitions.restart, self.floor, self._const, self._ll,
-                     self._stay, self._dwells, self._scratch, self._holdable, self._held,
-                     self._owner)
+                     self._stay, self._dwells, self._scratch)
         self.steps += 1
         self._fresh[:] = False
         return self._ll.copy()

@@ -47,7 +47,7 @@ class FollowerGroup(GroupArrays, GroupRules):
                                     "follower 0; a group's followers must share sigma, window, "
                                     "transitions and limits")
         # the kernels a step calls, loaded now: not on the first step (behaviors.kernel_cache)
-        load(group_steps.map_inputs, group_steps.take_samples, group_steps.rests, path_distances,
+        load(group_steps.map_inputs, group_steps.take_samples, path_distances,
              group_kernel.update_templates, members.conclude, member_validity.turned)
         width = max(f._zdim for f in self.followers)
         means, starts, lengths, dims, names, owner = [], [], [], [], [], []
@@ -67,13 +67,10 @@ class FollowerGroup(GroupArrays, GroupRules):
                             np.concatenate(lengths), np.zeros(width), np.ones(width))
         p = first._params
         stay = np.concatenate([f.forward._stay for f in self.followers])
-        holdable = np.concatenate([f.forward._holdable for f in self.followers])
         self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
                                        transitions=first.forward.transitions, floor=p["floor"],
-                                       dims=np.array(dims), stay=stay, holdable=holdable,
-                                       owner=np.array(owner))
+                                       dims=np.array(dims), stay=stay)
         self._owner = np.array(owner, dtype=np.intp)
-        self._rest_held = np.full(len(self.followers), -1, dtype=np.int64)  # group_steps.rests
         bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
         self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
         self._z = np.zeros((len(owner), width))
@@ -101,7 +98,6 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._jumped[rows] = False
         self._strayed[rows] = False
         self._nbuf[rows] = 0
-        self._rest_run[rows] = 0
         self._ended[rows] = -1
         self._forget_members(rows)
         self._tempo_n[rows] = 0
@@ -186,12 +182,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             kept = [(n, getattr(self, n)[self._owner_of(lost)].copy())
                     for n in self._PER_TEMPLATE + self._GROUP_TEMPLATE]
             kept += [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
-        # whether each performer rests, once: its templates held by the forward step, and the
-        # per-template pass's holds and stalls (group_kernel.update_templates)
-        group_steps.rests(self._buf, self._nbuf, X, self._m_radius, self._m_keep, self._acquired,
-                          self._bounds, self._drive_from, self._drive_peak, self._drive_moved,
-                          self._rest_run, self._m_rest, self._rest_held)
-        step_ll = fw.step(self._z, self._rest_held)
+        step_ll = fw.step(self._z)
         if saved is not None:
             fw.restore(saved)
         out = self._finish(step_ll, present)

@@ -104,7 +104,6 @@ class GroupArrays:
         self._has_anchor = np.zeros(m, dtype=bool)
         self._buf = np.zeros((m, int(self._m_keep.max()), dmax))
         self._nbuf = np.zeros(m, dtype=np.intp)
-        self._rest_run = np.zeros(m, dtype=np.int64)   # rest reads in a row (tempo.stopped)
         self._best = np.full(m, -1, dtype=np.intp)   # -1: none yet (ActionFollower._best)
         self._run = np.zeros(m, dtype=np.intp)
         self._run_k = np.full(m, -1, dtype=np.intp)   # whose samples _run counts (recognition)
@@ -152,9 +151,9 @@ class GroupArrays:
     #: Per-template state the group keeps for its members' spotting, not shared with them.
     _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone",
                        "_attempt_from", "_once") + group_layout.SHAPE_LAGS
-    _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_rest_run", "_best", "_run",
-                   "_run_k", "_lost", "_ended", "_end_x", "_end_last", "_has_end", "_acquired",
-                   "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
+    _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
+                   "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
+                   "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
                    "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
                    "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",

@@ -96,8 +96,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     largest RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``, or broader
     and alike: :func:`~behaviors.mop.rivals.broad_rivals`) in shape by ``min_lead``, whether the
-    performer rests (``rest_out``, read before the forward step: :func:`group_steps.rests`; the
-    holds' rule here, the stall rule in
+    performer rests (``rest_out``: the holds' rule here, the stall rule in
     :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
     (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples in its
     shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
@@ -152,7 +151,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         inside_hi = math.exp(rejudge_at) * (1.0 - 1e-9)
         for c in range(d):
             hrad[c] = m[ra0 + c]
-        rest = rest_out[i]   # holding (ActionFollower._finish), read before the forward step
+        rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
+        rest_out[i] = rest
         # a pause of an action that carried its performer forward (validity.unweighed)
         paused = (UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST

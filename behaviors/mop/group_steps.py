@@ -13,16 +13,13 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import commitment, holding, tempo, validity
+from behaviors.mop import commitment
 from behaviors.mop.commitment import COMMIT_LAGS
 from behaviors.mop.compiled import CONTRACT, prefetch
-from behaviors.mop.holding import resting_with
-from behaviors.mop.tempo import STOP_RADII, STOP_SAMPLES
-from behaviors.mop.validity import CARRY_FIRST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in
-_CALLS_INTO = (behaviors.mop.compiled, commitment, holding, tempo, validity)
+_CALLS_INTO = (behaviors.mop.compiled, commitment)
 
 _F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
 _I1, _B1, _I2 = numba.intp[::1], numba.boolean[::1], numba.intp[:, ::1]
@@ -71,30 +68,6 @@ def take_samples(samples, x, anchor, has_anchor, jump, jumped) -> int:
             has_anchor[i] = True
             taken = 2
     return taken
-
-
-@compiled(numba.void(_F3, _I1, _F2, _F2, _I1, _I1, _I1, _F1, _F1, _B1, numba.int64[::1], _B1,
-                     numba.int64[::1]), *_CALLS_INTO, fastmath=CONTRACT)
-def rests(buf, nbuf, x, radius, keep, acquired, bounds, drive_from, drive_peak, drive_moved,
-          run, out, held) -> None:
-    """Whether each member's performer rests (:func:`behaviors.mop.holding.resting_with` over
-    its buffered samples and this one, ``x`` (M, D), within its still ``radius`` (M, D), over its
-    ``keep`` samples) into ``out`` (M,), read before the forward step and by the per-template
-    pass; and ``held`` (M,): the template (the group's index, from the member's first template
-    ``bounds``) whose state the forward step holds (:func:`behaviors.mop.window_kernel.
-    step_windows`), the action ``acquired`` of a resting member once it carried its performer
-    forward (:func:`behaviors.mop.validity.carried` of ``drive_from``, ``drive_peak``,
-    ``drive_moved``) and really stopped (:func:`behaviors.mop.tempo.stopped`, ``run`` (M,) the
-    rest reads in a row, updated); -1: none."""
-    for i in range(x.shape[0]):
-        r = resting_with(buf, nbuf, i, x, radius[i], keep[i])
-        out[i] = r
-        run[i] = run[i] + 1 if r else 0
-        carried = (acquired[i] >= 0 and drive_moved[i]
-                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST)
-        stop = (run[i] >= STOP_SAMPLES and carried
-                and resting_with(buf, nbuf, i, x, STOP_RADII * radius[i], keep[i]))
-        held[i] = bounds[i] + acquired[i] if stop else -1
 
 
 @compiled(numba.void(_F1, numba.intp, numba.intp, _I1), *_CALLS_INTO, fastmath=CONTRACT)

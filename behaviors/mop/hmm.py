@@ -304,30 +304,6 @@ def dwell_states(bank: TemplateBank, dwell: float, margin: float = 0.1) -> np.nd
     return out
 
 
-#: Once the performer really stopped (:func:`~behaviors.mop.tempo.stopped`), the forward step
-#: holds the state of the action driving once it carried them forward, where it lies ahead of
-#: the still input
-#: (:func:`~behaviors.mop.window_kernel.step_windows`, on the states :func:`rest_holdable`).
-REST_HOLD = True
-
-
-def rest_holdable(bank: TemplateBank, ahead: int = 0, margin: float = 0.1) -> np.ndarray:
-    """Per state of ``bank``, whether a followed state there is held while the performer rests
-    (:data:`REST_HOLD`): inside a template's progress, not within the first or last ``margin``
-    of it (the start, where every performance waits, and the end, which must be reached for the
-    gesture to end), nor in a hold inside the template or the ``ahead`` states on either side
-    (a performer resting before it holds it, :mod:`behaviors.mop.holding`, and the return's
-    eased start after it looks held too: there the dwell carries the state on)."""
-    if not REST_HOLD or bank.source is None:
-        return np.zeros(len(bank.means), dtype=bool)
-    out = (bank.source >= margin) & (bank.source <= 1.0 - margin)
-    for a, b in inner_holds(bank, margin):
-        k = np.searchsorted(bank.starts, a, side="right") - 1
-        start, end = int(bank.starts[k]), int(bank.starts[k] + bank.lengths[k])
-        out[max(a - ahead, start):min(b + ahead, end)] = False
-    return out
-
-
 def inner_holds(bank: TemplateBank, margin: float = 0.1) -> list[tuple[int, int]]:
     """The compressed holds inside the templates of ``bank``, as (first, past the last) state
     indices: not within the first or last ``margin`` of a template's progress."""

@@ -110,11 +110,10 @@ class Recognition:
     probabilities, best, validity and state."""
 
     def _finish(self, step_ll: np.ndarray, forward: WindowedForward, offset: int,
-                entries: np.ndarray, x: np.ndarray, rest: bool) -> FollowState:
+                entries: np.ndarray, x: np.ndarray) -> FollowState:
         """Evidence, probabilities, best, validity and spotting from one forward step's
         per-template log-likelihoods; this follower's templates are ``forward``'s from
-        ``offset`` on; ``rest``: whether the performer rests (:func:`~behaviors.mop.tempo.
-        resting`, read once before the forward step)."""
+        ``offset`` on."""
         k = len(self.names)
         b = self.bank
         # every sample joins the take's last samples (take_rule._fits_take), a rest's too.
@@ -136,8 +135,9 @@ class Recognition:
         frac = g - gi
         src = b.source
         progress = src[gi] + frac * (src[gi + 1] - src[gi])
-        # rest (over this sample and the ones before, the samples _still will keep): read once,
-        # for the forward hold, the holds here and the stall rule after the push (_conclude)
+        # resting over this sample and the ones before (the samples _still will keep): once,
+        # for the holds here and for the stall rule after the push (_conclude)
+        rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
         if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
             if rest and self.invariance == "scale":
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units,

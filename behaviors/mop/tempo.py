@@ -116,26 +116,6 @@ def resting(recent: list[np.ndarray], radius: np.ndarray) -> bool:
     return bool(np.all(np.abs(d) <= RESTING_RADII * radius))
 
 
-#: A real stop, not a slow stretch (:func:`stopped`): the rest read within this share of its
-#: radii, over at least this many rest reads in a row. The forward hold keyed to it
-#: (hmm.REST_HOLD) rather than to :func:`resting` (which fires at 0.6x tempo): paused draws
-#: valid .9694 -> .9702, drift median / p90 .0097 / .0835 -> .0095 / .0823, held-out p90 .0647
-#: -> .0588, valid after .9297 -> .9303; held-out sized 104 .9102 -> .9104, the rest of seeds
-#: 101-106 as before. Keyed to the rest read alone: paused draws .9766, but sized 102 .9036 ->
-#: .9022 (a 1.2x punch ankle paused .84 s, a size rule fired at the held state), 101 .9183 ->
-#: .9180, slow stretches of unpaused draws held (RMSE median 106 .0211 -> .0219). Share .5
-#: (1 or 3 reads): 101 -> .9180, 103 .9171 -> .9169; .35: 102 -> .9022; .25 with 1 read: RMSE
-#: median 106 .0211 -> .0214; 4 reads at share 1: 102 -> .9022, 103 -> .9169.
-STOP_RADII, STOP_SAMPLES = 0.25, 3
-
-
-def stopped(recent: list[np.ndarray], radius: np.ndarray, run: int) -> bool:
-    """Whether the performer really stopped: ``run`` (the rest reads in a row, this one
-    included) at least :data:`STOP_SAMPLES` and :func:`resting` within :data:`STOP_RADII` of
-    ``radius`` (raw units)."""
-    return run >= STOP_SAMPLES and resting(recent, STOP_RADII * radius)
-
-
 #: Whether an action stopped for crawling stays stopped while the input hovers
 #: (:func:`crawl_run`).
 CRAWL_HOVERS = True

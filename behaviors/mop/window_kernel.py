@@ -162,14 +162,13 @@ def _moments(x: np.ndarray, n: int) -> tuple[float, float, float]:
 # the forward step 306, 328, 340, 348 -> 246, 250, 257, 268 us; the same results to the bit.
 @compiled(numba.void(_F2, _I1, _I1, _I1, _B1, _F2, _F2, _F2, _F1, _I1, _F1, _F2, _I1, _B1,
                      numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1,
-                     _F1, _B1, _F2, _B1, _I1, _I1), *_CALLS_INTO, fastmath=CONTRACT, _nrt=False)
+                     _F1, _B1, _F2), *_CALLS_INTO, fastmath=CONTRACT, _nrt=False)
 def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: np.ndarray,
                  start_tail: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray,
                  s: np.ndarray, lo: np.ndarray, mean: np.ndarray, mom: np.ndarray,
                  entries: np.ndarray, fresh: np.ndarray, half: int, back: float, fwd: np.ndarray,
                  eps: float, floor: float, const: np.ndarray, out: np.ndarray,
-                 stay: np.ndarray, dwells: np.ndarray, scratch: np.ndarray,
-                 holdable: np.ndarray, held: np.ndarray, owner: np.ndarray) -> None:
+                 stay: np.ndarray, dwells: np.ndarray, scratch: np.ndarray) -> None:
     """Advance every template's windows by one step (see the module docstring).
 
     ``means`` (states, d) and ``z`` (K, d) prescaled by 1 / (sigma sqrt 2); ``a``, ``b`` (K, w):
@@ -179,11 +178,7 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     restart); ``out`` (K,): the step's log-likelihood. ``floor`` 0: the log domain, every
     first-states window computed. ``stay`` (states,): each state's share that stays before the
     transitions move the rest (a template's holds), used for the templates ``dwells`` (K,).
-    ``scratch`` (7, w rounded up to 8): the working windows (overwritten). ``held`` (M,): per
-    performer, the template it drives while it rests (-1: none; ``owner`` (K,): each template's
-    performer, an index into ``held``): where its followed state lies ahead of the state nearest
-    the still input, on a state ``holdable`` (states,), the template's windows stay as they were
-    (see the comment in the loop)."""
+    ``scratch`` (7, w rounded up to 8): the working windows (overwritten)."""
     k, w = a.shape
     logs = floor <= 0.0
     start_floor = START_FLOOR if floor > 0.0 else 0.0
@@ -221,31 +216,12 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
         n8 = (n + 7) // 8 * 8
         zj = z[j]
         m = _distances(means, starts[j] + lo0, zj, n, lb)
-        m0_dist = m
         if full:
             m = min(m, _distances(means, starts[j], zj, n, lbs))
         for r in range(n, n8):   # (a longer window's states may lie there)
             lb[r] = lbs[r] = np.inf
         aj, bj = a[j], b[j]
         fl = floor / n
-        if (held[owner[j]] == j and not first and not logs
-                and holdable[_U(starts[j] + int(mean[j] + 0.5))]):
-            near = 0   # the state nearest the still input
-            while lb[near] > m0_dist:
-                near += 1
-            if mean[j] - lo0 > near:
-                # the followed state lies ahead of the still input: held where it stands, the
-                # step's likelihood the sample's on the windows as they were (hmm.REST_HOLD)
-                tot = _sum(aj, n)
-                acc = 0.0
-                for r in range(n):
-                    acc += aj[r] * exp_neg(max(m - lb[r], CLAMP))
-                if full:
-                    tot += _sum(bj, n)
-                    for r in range(n):
-                        acc += bj[r] * exp_neg(max(m - lbs[r], CLAMP))
-                out[j] = math.log(acc / tot) - m + const[j]
-                continue
         if first:
             for r in range(n):
                 q[r] = aj[r] + fl
@@ -253,17 +229,28 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
                     qs[r] = bj[r] + start_floor
         else:
             # The transitions move the windows while the performer rests too: in a pause the
-            # followed state settles 0.01-0.02 ahead of the still input; held above once the
-            # performer really stopped (tempo.stopped has the figures). Measured and not kept
+            # followed state settles 0.01-0.02 ahead of the still input. Measured and not kept
             # (bench/follow_quality.py; bench/follow_seeds.py --sections=sized,unrelated,
-            # sequences), held on every rest read (tempo.resting): pauses valid 0.969 -> 0.977,
-            # but held-out sized 102 0.9036 -> 0.9022 (a 1.2x punch ankle re-sized at its held
-            # state, 1.0 -> 0.87), the progress RMSE median up on four seeds (slow stretches read
-            # as rests). Held only 1 state ahead: 103 lower too. Every template of a resting
-            # performer held from its state nearest the input on (the emission then draws the
-            # state back): 102 0.8973, tuned hold backward 0.0013 -> 0.0047; without the carried
-            # test, a wander's wrong take held through its last rest (validity.stalls spares a
-            # resting state): unrelated worst 0.098 -> 0.111.
+            # sequences), the state of the action driving, once it carried its performer forward
+            # (validity.carried), held while they rest (tempo.resting) where it lies ahead of the
+            # state nearest the input (its windows as they were; not within the first or last
+            # 10% of it, nor within 9 states of a hold inside it): pauses valid 0.969 -> 0.977,
+            # held through 0.957 -> 0.971 (held-out 0.950, 0.915 as before), progress drift
+            # median 0.0097 -> 0.0078, held-out 0.0112 -> 0.0101 (p90 0.084 -> 0.048, 0.065 ->
+            # 0.048), holds identical; held-out sized valid after 30% 101-106 mean 0.9084 ->
+            # 0.9103 (104 0.910 -> 0.920), but 102 0.9036 -> 0.9022 (a 1.2x punch ankle re-sized
+            # at its held state, 1.0 -> 0.87) and 101 lower by a sample, the progress RMSE median
+            # up on four seeds (slow stretches read as rests). Held only 1 state ahead: 103 lower
+            # too. Every template of a resting performer held from its state nearest the input on
+            # (the emission then draws the state back): 102 0.8973, tuned hold backward 0.0013 ->
+            # 0.0047; without the carried test, a wander's wrong take held through its last rest
+            # (validity.stalls spares a resting state): unrelated worst 0.098 -> 0.111.
+            # Held only once the performer really stopped (the rest read within 0.25 of its
+            # radii, 3 reads in a row), so slow stretches are not: pauses valid 0.969 -> 0.970,
+            # drift p90 0.084 -> 0.082 (held-out 0.065 -> 0.059), sized 101-106 as before but 104
+            # up, yet 108's progress RMSE median 0.0198 -> 0.0202 (an unpaused 0.7x dance ankle:
+            # its own foot stops held); 6 reads: held-out drift median 0.011238 -> 0.011244;
+            # within 0.5, 7 reads: pauses 0.971, but 102 0.9036 -> 0.9022 (a real stop), 101 down.
             dw = dwells[j]
             xa, xb = aj, bj
             if dw:   # the held share of each hold state stays; the rest moves

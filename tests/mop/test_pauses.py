@@ -10,8 +10,8 @@ import pytest
 from bench.follow_pauses import driven_over
 from bench.follow_quality import puck_follower, run
 from bench.motions import paused
-from behaviors.mop import hmm, validity
-from tests.mop.helpers import held_out_draw, held_out_group_valid, held_out_valid
+from behaviors.mop import validity
+from tests.mop.helpers import held_out_group_valid, held_out_valid
 
 
 def _pauses(gestures: dict[str, np.ndarray]) -> list[tuple[float, float]]:
@@ -41,12 +41,9 @@ def test_an_action_paused_part_way_drives_through_the_pause(gestures):
     assert max(w for _, w in shares) == 0.0
 
 
-def test_without_the_pause_rules_paused_actions_stop_driving(gestures, monkeypatch):
-    # the same pauses with the evidence weighed at rest and the followed state carried on by the
-    # forward's transitions (both rules off; with hmm.REST_HOLD alone on, every pause here is
-    # driven through as well): the figures above fail
+def test_without_the_pause_rule_paused_actions_stop_driving(gestures, monkeypatch):
+    # the same pauses with the evidence weighed at rest (the rule off): the figures above fail
     monkeypatch.setattr(validity, "UNWEIGHED_AT_REST", False)
-    monkeypatch.setattr(hmm, "REST_HOLD", False)
     shares = _pauses(gestures)
     assert sum(d < 0.95 for d, _ in shares) >= 3, shares
 
@@ -125,27 +122,6 @@ def test_a_paused_action_keeps_driving_alone_and_in_a_group(seed, action, size, 
     assert valid >= least, valid
     valid = held_out_group_valid(seed, action, size)
     assert valid >= least_in_group, valid
-
-
-def _ran_on(seed: int, action: str, size: float) -> float:
-    """How far (progress) ``action``'s followed state ran on in the pause of
-    :func:`~tests.mop.helpers.held_out_draw`'s performance past where it stood at its first
-    sample."""
-    templates, x, prog = held_out_draw(seed, action, size)
-    p = prog[:, 0]
-    still = np.flatnonzero(np.isfinite(p[1:]) & (np.diff(p) == 0) & (p[1:] > 0) & (p[1:] < 1)) + 1
-    got = [s.progress_by[action] for s in run(puck_follower(templates), x)[still[0]:still[-1] + 1]]
-    return max(got) - got[0]
-
-
-def test_a_paused_actions_state_stays_where_it_stood(monkeypatch):
-    # hmm.REST_HOLD: the dance's ankle above, paused at 0.533 of it: its state ran on 0.030
-    # (on the samples before the real stop was read, tempo.stopped), 0.047 with the forward's
-    # transitions carrying the state on past the still puck (a group of one holds it alike:
-    # PAUSED_DRIVES)
-    assert _ran_on(102, "dance_a_right_ankle", 0.7) <= 0.035
-    monkeypatch.setattr(hmm, "REST_HOLD", False)
-    assert _ran_on(102, "dance_a_right_ankle", 0.7) >= 0.04
 
 
 def _bent_getup(seed: int = 7) -> tuple[dict, np.ndarray, np.ndarray]:
