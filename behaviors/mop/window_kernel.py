@@ -245,6 +245,12 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
             # (the emission then draws the state back): 102 0.8973, tuned hold backward 0.0013 ->
             # 0.0047; without the carried test, a wander's wrong take held through its last rest
             # (validity.stalls spares a resting state): unrelated worst 0.098 -> 0.111.
+            # Held only once the performer really stopped (the rest read within 0.25 of its
+            # radii, 3 reads in a row), so slow stretches are not: pauses valid 0.969 -> 0.970,
+            # drift p90 0.084 -> 0.082 (held-out 0.065 -> 0.059), sized 101-106 as before but 104
+            # up, yet 108's progress RMSE median 0.0198 -> 0.0202 (an unpaused 0.7x dance ankle:
+            # its own foot stops held); 6 reads: held-out drift median 0.011238 -> 0.011244;
+            # within 0.5, 7 reads: pauses 0.971, but 102 0.9036 -> 0.9022 (a real stop), 101 down.
             dw = dwells[j]
             xa, xb = aj, bj
             if dw:   # the held share of each hold state stays; the rest moves
