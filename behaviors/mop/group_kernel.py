@@ -111,7 +111,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
     rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
-    rev_at, seat = floats[16], floats[17]
+    rev_at = floats[16]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -189,7 +189,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
-                    seat[k] = row[hahead] - start
             if undone:
                 num[k] -= rev_undo[k]
             was = num[k]

@@ -143,8 +143,7 @@ class Recognition:
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units,
                              self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
-                             self._num, self._den, self._prior, self._least, self.bank.starts,
-                             self._seat)
+                             self._num, self._den, self._prior, self._least)
         self._reversal_sizes(x, gi)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
