@@ -116,8 +116,9 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
 #: (bench/follow_seeds.py --sections=sized,unrelated,sequences) 105 .9050 -> .9133 (that getup
 #: .06 -> .93), 112 .9038 -> .9114 (its 0.7x getup .16 -> .92), 110 .9142 -> .9161, means
 #: .9093 -> .9106 / .9074 -> .9091, unrelated and sequences the same; but 102 / 108 / 111
-#: .9036 / .9003 / .9027 -> .9031 / .8999 / .9025 (their 0.7x getup wrists 1.0 -> .95-.98, two
-#: samples not valid at the hold's rest near 30%: 108 then below .9), progress RMSE median 101
+#: .9036 / .9003 / .9027 -> .9031 / .8999 / .9025 (their 0.7x getup wrists 1.0 -> .95-.98: near
+#: 30% two samples not valid by validity.stalls, driving from the seated hold and not carried
+#: past it while its performer rests there; 108 then below .9), progress RMSE median 101
 #: .0212 -> .0214; bench/follow_quality.py held-out hold RMSE max .046 -> .037 but hold
 #: backward max .00134 -> .00138, aspect 1.2 .447 -> .443.
 def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.ndarray, lo: float,
