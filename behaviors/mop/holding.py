@@ -120,7 +120,10 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
 #: 30% two samples not valid by validity.stalls, driving from the seated hold and not carried
 #: past it while its performer rests there; 108 then below .9), progress RMSE median 101
 #: .0212 -> .0214; bench/follow_quality.py held-out hold RMSE max .046 -> .037 but hold
-#: backward max .00134 -> .00138, aspect 1.2 .447 -> .443.
+#: backward max .00134 -> .00138, aspect 1.2 .447 -> .443. With validity.stalls spared on a
+#: seated hold (follower and group): sized 102 / 108 / 111 the same / the same / .9029, means
+#: .9093 -> .9107 / .9074 -> .9095, none lower; but progress RMSE median 101 .0212 -> .0214,
+#: hold backward max and aspect 1.2 as above. The 0.7x getup wrists wait on it.
 def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.ndarray, lo: float,
                  tol: np.ndarray, num: np.ndarray, den: np.ndarray, prior: np.ndarray,
                  least: np.ndarray) -> None:
