@@ -83,7 +83,9 @@ REVERSAL_UNDO_COS = 0.7
 #: one state spread (sigma) of the first is none: 101 .9001, 103 .9027, tuned .9103 (the
 #: cartwheel's 3.9 mm turn then covers its first states: 1.0x ones sized 1.40). Each state's
 #: nearest landmark rather than its first (a backflip ankle's second wiggle matched to its
-#: first turn, 1.21 -> 0.85): .8887 .8778 .8990 .8896 .8887 .8961, tuned .9128.
+#: first turn, 1.21 -> 0.85): .8887 .8778 .8990 .8896 .8887 .8961, tuned .9128. Nor the latest
+#: turn a state has passed (a state just past a second turn, within reach of the first, mapped to
+#: the second): 102 .9036 -> .8949 (kick wrists 0.7 / 1.0 / 1.4x 1.0 -> .83 / .91 / .73).
 #: The same turn read again while the followed state moves on: :data:`REVERSAL_AGAIN`.
 REVERSAL_BEHIND = 6
 #: A line drawn 0.7x, followed at size 1, turns back 6.5 states short of its turn (state 23 of
@@ -249,6 +251,10 @@ def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float
 #: aspect 1.1 .880 -> .895, nothing lower. Price, taken: 112's twenty templates' longest wrong
 #: run 2 -> 3 (the rule rightly keeps a kick's size at tick 33; the sequence then takes another
 #: course, 4 wrong ticks -> 3 in all, one of them a punch 3 ticks at a getup's still start).
+#: Not kept, with the band or instead of it, a re-read sizing at another landmark only where the
+#: turn fits it better (residual over tolerance) than the first met: 106 .9015 -> .8988 (a 1.4x
+#: kick wrist .87 -> .61: its first landmark fits well at the wrong size), 101 102 107 112 the
+#: same.
 REVERSAL_AGAIN = 1.5
 
 
