@@ -276,10 +276,13 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
             self._probe = np.zeros((k, 3))   # behaviors.mop.size_probe
             self._rev_undo = np.zeros(k)   # the last reversal's sizes in num (_reversal_sizes)
             self._rev_at = np.zeros(k)   # the landmark (state) its turn first met, -1: none
+            self._seat = np.full(k, -1.0)   # a hold to follow from (holding.rested_sizes)
+            self._seated = np.zeros(k, dtype=bool)   # seated on a hold in this attempt
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
                   self._entries, self._num, self._den, self._least, self._at_hold_end,
-                  self._probe, self._fresh, self._rev_undo, self._rev_at):
+                  self._probe, self._fresh, self._rev_undo, self._rev_at, self._seated):
             a.fill(0)
+        self._seat.fill(-1.0)
         # the last reversal's turn (from the anchor, units), the way into it and the samples
         # since (-1: none pending; PerformanceFrame._reversal_sizes)
         self._rev_turn, self._rev_way, self._rev_age = np.zeros(self.dim), np.zeros(self.dim), -1
@@ -378,7 +381,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._last_x = x.copy()
         fw = self.forward
         step_ll = fw.step(self._inputs(x))
-        return self._finish(step_ll, fw, 0, fw.entries, x)
+        state = self._finish(step_ll, fw, 0, fw.entries, x)
+        fw.seat(self._seat, self._seated)
+        return state
 
     def _glitch(self, x: np.ndarray) -> bool:
         """Whether the finite sample x is a glitch to hold (module docstring); counts it."""

@@ -163,6 +163,22 @@ class WindowedForward:
         self._a[t], self._b[t], self._s[t], self._fresh[t] = a, b, s, fresh
         self.lo[t], self.mean[t], self._mom[:, t], self.entries[t] = lo, mean, mom, entries
 
+    def seat(self, states: np.ndarray, seated: np.ndarray) -> None:
+        """Each template whose ``states`` (K,: a state from its first, -1 none) lies ahead of its
+        mean is followed from there: its main window's whole probability on that state
+        (:func:`~behaviors.mop.holding.rested_sizes`), marked in ``seated`` (K,). ``states`` is
+        cleared to -1."""
+        for j in np.flatnonzero(states > self.mean).tolist():
+            h = int(states[j])
+            lo = int(min(max(h - self.half_window, 0), self._max_lo[j]))
+            self._a[j] = 0.0
+            self._a[j, h - lo] = self._s[j]
+            self.lo[j] = lo
+            self.mean[j] = h
+            self._mom[:, j] = (1.0, h, h * h)
+            seated[j] = True
+        states.fill(-1.0)
+
     @property
     def progress(self) -> np.ndarray:
         """Progress per template, 0 at its first state and 1 at its last (K,)."""

@@ -147,7 +147,7 @@ class GroupArrays:
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
                      "_least", "_judged", "_at_hold_end", "_reached", "_probe", "_fresh",
-                     "_rev_undo", "_rev_at")
+                     "_rev_undo", "_rev_at", "_seat", "_seated")
     #: Per-template state the group keeps for its members' spotting, not shared with them.
     _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone",
                        "_attempt_from", "_once") + group_layout.SHAPE_LAGS

@@ -113,7 +113,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
     rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
-    rev_at = floats[16]
+    rev_at, seat = floats[16], floats[17]
     lags = floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
@@ -126,7 +126,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     any_engaged, all_refused, leads_out = m_flags[0], m_flags[1], m_flags[2]
     thr_has_x, rest_out, committed_out = m_flags[3], m_flags[4], m_flags[5]
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
-    covered, at_hold_end, fresh = flags[3], flags[4], flags[6]
+    covered, at_hold_end, fresh, seated = flags[3], flags[4], flags[6], flags[7]
     d = x.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
@@ -191,6 +191,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
+                    seat[k] = row[hahead] - start
             if undone:
                 num[k] -= rev_undo[k]
             was = num[k]
@@ -266,6 +267,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if new:
                 gone[k] = 0.0
                 attempt_from[k] = progress_out[k]   # (validity.stalls)
+                seated[k] = False
             if spots:   # the highest progress since the gesture began (spotting's _gone)
                 gone[k] = max(gone[k], progress_out[k])
             mll = rec[k] / rw[k]

@@ -31,11 +31,12 @@ MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
           "_gone", "_least", "_judged", "_drift", "_drift_run", "_reached", "_attempt_from",
-          "_rev_undo", "_rev_at")
+          "_rev_undo", "_rev_at", "_seat")
 #: Per-template shape sums at each timing offset (:func:`behaviors.mop.commitment.add_lagged`),
 #: rows of ``floats`` after :data:`FLOATS`'s first ones, from :data:`LAG0`.
 SHAPE_LAGS = tuple(f"_shape_lag_{j}" for j in range(2 * COMMIT_LAGS + 1))
 LAG0 = len(FLOATS)
 FLOATS += SHAPE_LAGS
 #: Per-template flags updated in place, in this order.
-FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end", "_once", "_fresh")
+FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end", "_once", "_fresh",
+         "_seated")

@@ -126,19 +126,22 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
 #: hold backward max and aspect 1.2 as above. The 0.7x getup wrists wait on it.
 def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.ndarray, lo: float,
                  tol: np.ndarray, num: np.ndarray, den: np.ndarray, prior: np.ndarray,
-                 least: np.ndarray) -> None:
+                 least: np.ndarray, starts: np.ndarray, seat: np.ndarray) -> None:
     """A performer resting within a few states before a hold takes, per template, the size that
     puts the input on it when smaller (:func:`hold_size`), in place on the size estimate's sums
     ``num`` (``den``, ``prior``:
     :meth:`~behaviors.mop.invariance.PerformanceFrame._estimate_size`'s). ``ahead`` (K,): each
     template's hold ahead (-1: none); ``rel``: the states from their first (units); ``r``: the input
     from the anchor (units); ``tol`` (d,): :data:`SNAP_RADII` still radii in units; ``least`` (K,):
-    the reach's least size, lowered to a size taken here."""
+    the reach's least size, lowered to a size taken here; ``seat`` (K,): the hold's state from
+    its template's first (``starts``) where a size was taken
+    (:meth:`~behaviors.mop.forward.WindowedForward.seat`)."""
     for k in np.flatnonzero(ahead >= 0):
         s = hold_size(rel[ahead[k]], r, float(size[k]), lo, tol)
         if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
             num[k] = s * (den[k] + prior[k]) - prior[k]
             least[k] = min(least[k], s)   # the hold measured it: the reach's jittered max yields
+            seat[k] = ahead[k] - starts[k]
 
 
 def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray,

@@ -171,6 +171,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         if present[i] and m_flags[14, i]:
             m_flags[2, i] = False
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
+    seated = flags[7]
     highest, drift_run, attempt_from = floats[8], floats[12], floats[14]   # (group_layout.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
@@ -263,7 +264,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - (drive_from[i] + drive_leapt[i]) < CARRY_FIRST
                              and not (drive_from[i] - attempt_from[gb] >= TAKEN_PERFORMED
-                                      and abs(step) < LEAST_TEMPO))
+                                      and abs(step) < LEAST_TEMPO) and not seated[gb])
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
         # a new best confirms on samples of its own (recognition: the run does not carry over)

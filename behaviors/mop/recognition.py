@@ -143,7 +143,8 @@ class Recognition:
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units,
                              self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
-                             self._num, self._den, self._prior, self._least)
+                             self._num, self._den, self._prior, self._least, self.bank.starts,
+                             self._seat)
         self._reversal_sizes(x, gi)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
@@ -187,6 +188,7 @@ class Recognition:
         if np.count_nonzero(new):
             self._gone[new] = 0.0
             self._attempt_from[new] = progress[new]
+            self._seated[new] = False
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
             self._refused[new] = False
@@ -377,10 +379,10 @@ class Recognition:
                 ok = ok and not finished(self._drive_peak, progress_list[bi], self._crawl > 0)
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
-                ok = ok and not stalls(self._drive_from + self._drive_leapt, self._drive_peak,
-                                       self._drive_moved, rests,
-                                       self._drive_from - self._attempt_from[bi],
-                                       abs(step))
+                # (none on a hold it was seated on: holding.rested_sizes)
+                ok = ok and (self._seated[bi] or not stalls(
+                    self._drive_from + self._drive_leapt, self._drive_peak, self._drive_moved,
+                    rests, self._drive_from - self._attempt_from[bi], abs(step)))
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
                 # ... and it is not shown while its performer halts, not yet carried forward,
