@@ -113,8 +113,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
     rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
-    rev_at, seat = floats[16], floats[17]
-    lags = floats[LAG0:]
+    rev_at, seat, lags = floats[16], floats[17], floats[LAG0:]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
     sh_off, barred, freed = ints[2], ints[21], ints[22]
@@ -160,9 +159,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                   and drive_peak[i] - drive_from[i] >= CARRY_FIRST
                   and (rest or (drive_peak[i] - drive_from[i] >= PAUSE_CARRY
                                 and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
-        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes) ...
-        undone = False   # ... or went on past the last reversal's turn: its sizes undone
-        again = False   # ... the same turn read again
+        # the input reverses here (PerformanceFrame._reversal_sizes), went on past the last
+        # reversal's turn (its sizes undone), the same turn read again
+        turned, undone, again = False, False, False
         if scaled:
             for c in range(d):
                 tu[c] = m[un0 + c]

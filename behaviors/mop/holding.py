@@ -108,22 +108,19 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
     return s if rr > tt else 0.0
 
 
-#: A size taken at a hold ahead leaves the followed state where it was: a 0.7x getup wrist
-#: sized 0.97 -> 0.72 while followed at 0.10 (its performer at 0.24) creeps on a state a sample
-#: and its return drives it back down the first stroke (0.16 -> 0.07; held-out seed 105, valid
-#: after 30% .06). Not kept, the followed state then seated on the hold (the main window's whole
-#: probability there, follower and group): sized 0.7-1.4x valid after 30%
-#: (bench/follow_seeds.py --sections=sized,unrelated,sequences) 105 .9050 -> .9133 (that getup
-#: .06 -> .93), 112 .9038 -> .9114 (its 0.7x getup .16 -> .92), 110 .9142 -> .9161, means
-#: .9093 -> .9106 / .9074 -> .9091, unrelated and sequences the same; but 102 / 108 / 111
-#: .9036 / .9003 / .9027 -> .9031 / .8999 / .9025 (their 0.7x getup wrists 1.0 -> .95-.98: near
-#: 30% two samples not valid by validity.stalls, driving from the seated hold and not carried
-#: past it while its performer rests there; 108 then below .9), progress RMSE median 101
-#: .0212 -> .0214; bench/follow_quality.py held-out hold RMSE max .046 -> .037 but hold
-#: backward max .00134 -> .00138, aspect 1.2 .447 -> .443. With validity.stalls spared on a
-#: seated hold (follower and group): sized 102 / 108 / 111 the same / the same / .9029, means
-#: .9093 -> .9107 / .9074 -> .9095, none lower; but progress RMSE median 101 .0212 -> .0214,
-#: hold backward max and aspect 1.2 as above. The 0.7x getup wrists wait on it.
+#: A size taken at a hold ahead seats the followed state on the hold (the main window's whole
+#: probability there, :meth:`~behaviors.mop.forward.WindowedForward.seat`; follower and group),
+#: and an action so seated is not dropped by validity.stalls while its performer rests there.
+#: Left where it was, a 0.7x getup wrist sized 0.97 -> 0.72 while followed at 0.10 (its
+#: performer at 0.24) crept on a state a sample and its return drove it back down the first
+#: stroke (0.16 -> 0.07; held-out seed 105, valid after 30% .06). Sized 0.7-1.4x valid after
+#: 30% (bench/follow_seeds.py --sections=sized,unrelated,sequences) 105 .9050 -> .9133 (that
+#: getup .06 -> .93), 112 .9038 -> .9123 (its 0.7x getup .16 -> .92), 107 / 109 / 110 / 111 /
+#: 101 up a little, none lower, means .9093 -> .9107 / .9074 -> .9095, unrelated and sequences
+#: the same; bench/follow_quality.py held-out hold progress RMSE max .046 -> .037. Price, taken:
+#: progress RMSE median 101 .0212 -> .0214, hold backward max .00134 -> .00138, aspect 1.2 valid
+#: .447 -> .443. Seated without sparing it from validity.stalls: 102 / 108 / 111 lower (their
+#: 0.7x getup wrists 1.0 -> .95-.98, two samples near 30% not valid; 108 .9003 -> .8999).
 def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.ndarray, lo: float,
                  tol: np.ndarray, num: np.ndarray, den: np.ndarray, prior: np.ndarray,
                  least: np.ndarray, starts: np.ndarray, seat: np.ndarray) -> None:
