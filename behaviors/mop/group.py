@@ -24,7 +24,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import REACH_AHEAD, REACH_BACK, path_distances
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop.group_layout import FLAGS, FLOATS, SHAPE_LAGS
+from behaviors.mop.group_layout import SHAPE_LAGS
 from behaviors.mop.validity import PATH_REACH
 
 
@@ -259,7 +259,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._reversal_tol, self._probe, self._probe_floor2, self._k_rows, self._shared,
             self._tempo_x, self._tempo_g)
         states = self._conclude(step_ll, present)
-        fw.seat(self._floats[FLOATS.index("_seat")], self._flags[FLAGS.index("_seated")])
+        fw.seat(self._seat, self._seated)   # (views of their rows of the kernel's arrays)
         return states
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
