@@ -410,7 +410,11 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                                                   stored.demonstration))
         except InputError as exc:
             if not ctx.shared.get("kiosk_start"):
-                raise
+                if isinstance(exc, PuppetMasterError):
+                    raise
+                # a corrupt or cut demonstration.csv, named at the config's key as a corrupt
+                # behavior.yaml is (it named the file and line alone)
+                raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {exc}") from None
             problem = _start_without(options["name"], exc,
                                      options["name"] in ctx.shared.get("keeping", ()))
     designer = dict(options["designer"])

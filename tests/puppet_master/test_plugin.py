@@ -134,6 +134,24 @@ def test_corrupt_behaviour_is_refused_at_load_and_left_alone(tmp_path):
     assert (folder / "behavior.yaml").read_bytes() == before
 
 
+
+@pytest.mark.parametrize("cut, said", [
+    (lambda text: text[:len(text) // 2], "the file ends there without a line end"),
+    (lambda text: "".join(text.splitlines(keepends=True)[:100]), "cut short?")])
+def test_a_cut_demonstration_is_refused_at_load_naming_the_config_key(tmp_path, cut, said):
+    """A demonstration.csv cut short (mid-row, or at a whole row) is refused at the engine's
+    key of the config, as a corrupt behavior.yaml is: it named the file and line alone."""
+    folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=5), {})
+    csv = folder / "demonstration.csv"
+    csv.write_text(cut(csv.read_text()))
+    before = csv.read_bytes()
+    with pytest.raises(InputError) as err:
+        build([{"kind": "puppet_master", "behavior": "behaviors/library/lover"},
+               {"kind": "puppet_master", "name": "x", "behavior": str(folder)}])
+    assert str(err.value).startswith(f"test.yaml: engines[1].behavior: {csv}: "), err.value
+    assert said in str(err.value) and "\n" not in str(err.value)
+    assert csv.read_bytes() == before
+
 def test_a_behaviour_demonstrated_for_too_long_is_refused_at_load(tmp_path):
     """A demonstration.csv whose last time is 1e9 s (a damaged file) is refused naming its
     folder; it was resampled at 40 Hz and the run stopped with 'out of memory' (1e6 s: the
