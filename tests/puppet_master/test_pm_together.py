@@ -195,3 +195,47 @@ def test_reactors_on_one_main_step_together_whatever_their_order():
     first, swapped = three("abc"), three("cba")
     for k in "abc":
         assert np.array_equal(first[k], swapped[k]), k
+
+
+def test_the_shipped_example_of_several_reactors_runs_as_its_comments_say():
+    """examples/reactors.yaml: two reactors on one puck, a bully on the nearer of two pucks and
+    a mutual pair, built from the config as the installation builds it (30 s of the visitor
+    of its seed)."""
+    import yaml
+
+    from tests.puppet_master.test_plugin import ROOT
+    data = yaml.safe_load((ROOT / "examples" / "reactors.yaml").read_text())
+    assert [s["kind"] for s in data["sources"]] == ["scripted"]
+    engines = build(data["engines"], base=ROOT / "examples")
+    by_name = {e.name: e for e in engines}
+    chosen = set()
+    out = {e.name: [] for e in engines}
+    for f in visitor_frames(30, seed=data["sources"][0]["seed"]):
+        for e in engines:
+            (c,) = e.step(f)
+            f = f.with_characters((c,))
+            out[c.name].append((c.x, c.y, float(c.valid)))
+        chosen.add(by_name["bully"].mains.chosen)
+    out = {k: np.array(v) for k, v in out.items()}
+    # every character reacts from its first steps (the pair from each other's waiting places)
+    assert all(v[3:, 2].all() for v in out.values())
+    # none overlaps another: the sum of their body radii apart on every frame where both play
+    # (the pair's first frame, waiting, is drawn dimmed at the table's centre), to a micrometre
+    # (the issue asks within 10% of their sizes; measured: each pair's least gap is that sum,
+    # at most 0.3 um short)
+    names = list(out)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            both = (out[a][:, 2] > 0) & (out[b][:, 2] > 0)
+            gap = np.hypot(*(out[a][both, :2] - out[b][both, :2]).T)
+            need = (by_name[a].size + by_name[b].size) / 2
+            assert gap.min() >= need - 1e-6, (a, b, gap.min(), need)
+    # each keeps its character beside the others: the lover close to its puck, the stalker
+    # farther behind (measured medians 0.12 and 0.32 m)
+    puck = main_track(30, seed=data["sources"][0]["seed"])
+    lover, stalker = (np.median(np.hypot(*(out[k][120:, :2] - puck[120:, :2]).T))
+                      for k in ("lover", "stalker"))
+    assert lover < 0.22 and 0.22 < stalker < 0.45, (lover, stalker)
+    assert chosen == {0, 1}     # the bully turned to each puck in turn (puck 2 half the time)
+    pair = np.hypot(*(out["friend"][:, :2] - out["afraid"][:, :2]).T)
+    assert np.median(pair[120:]) < 0.3             # they react to each other (measured 0.11)
