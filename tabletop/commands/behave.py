@@ -39,6 +39,27 @@ def param_names() -> list[str]:
     return sorted(f.name for f in fields(Params))
 
 
+# what a parameter's default of 0 stands for, where it is not a plain zero
+ZERO_MEANS = {"max_turn_rate": "the demonstration's", "table_width": "the demonstration's area",
+              "table_height": "the demonstration's area", "edge_percentile": "off",
+              "half_life": "off", "w_room": "off"}
+
+
+def param_defaults() -> str:
+    """Every ``--param`` name with its default and unit, for the help: "ratio (1), window (40
+    samples), ..." (the help listed the names alone: a designer had to open params.py to see
+    where a parameter starts from)."""
+    from behaviors.puppet_master.params import UNITS, Params
+    units = {**UNITS, "rate_hz": "Hz"}
+    out = []
+    for name in param_names():
+        value = getattr(Params(), name)
+        said = ZERO_MEANS[name] if value == 0 and name in ZERO_MEANS else \
+            f"{value:g}" + (f" {units[name]}" if name in units else "")
+        out.append(f"{name} ({said})")
+    return ", ".join(out)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--train", metavar="DEMO.csv",
                         help="demonstration: t,main_x,main_y,main_dir,react_x,react_y,react_dir "
@@ -54,7 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "times (seconds, table metres, radians)")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="a behaviour parameter (repeatable), e.g. --param ratio=2, over a "
-                             f"behaviour folder's own; NAME is one of: {', '.join(param_names())}")
+                             "behaviour folder's own; NAME is one of (default): "
+                             f"{param_defaults()}; their ranges and why: "
+                             "behaviors/puppet_master/params.py")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
                         help="main character's path: t,main_x,main_y,main_dir (seconds, "
                              "table metres, radians), any rate")

@@ -157,8 +157,15 @@ def test_the_help_names_every_parameter():
                          cwd=Path(__file__).resolve().parents[2])
     assert res.returncode == 0, res.stderr
     text = " ".join(res.stdout.split())               # (argparse wraps the help)
-    names = text.split("NAME is one of: ", 1)[1].split(" --input", 1)[0]
-    assert names.split(", ") == sorted(f.name for f in fields(Params))
+    names = text.split("NAME is one of (default): ", 1)[1].split("; their ranges", 1)[0]
+    said = dict(item[:-1].split(" (", 1) for item in names.split(", "))
+    assert list(said) == sorted(f.name for f in fields(Params))
+    # each with its default, its unit, and what a 0 that is not a plain zero stands for
+    assert said["window"] == "40 samples" and said["ratio"] == "1" and said["rate_hz"] == "40 Hz"
+    assert said["min_speed"] == "0.01 m/s" and said["max_turn_rate"] == "the demonstration's"
+    assert said["edge_percentile"] == "off" and said["w_velocity"] == "1"
+    assert all(abs(float(v.split()[0]) - getattr(Params(), k)) <= 1e-5 * getattr(Params(), k)
+               for k, v in said.items() if v[0].isdigit())     # (shown to 6 digits)
 
 @pytest.mark.parametrize("param, words", [
     ("bogus=1", ["--param bogus", "unknown parameter", "ratio"]),
