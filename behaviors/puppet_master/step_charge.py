@@ -164,8 +164,14 @@ rad/s: a main walking across then carries it round unopposed), the relative step
 (relative_motion x 1, 1 +- 0.001, 1 +- 0.002) summed 12 / 21 / 13 / 6 = 52 -> 12 / 16 / 8 / 12
 = 48, all its misses 65 -> 64: orbit 23 -> 13 (slow mean 0.294 -> 0.289, spread 0.047 ->
 0.031) and still/moving and contact in their place (seed 130 fast's orbit in every run); within
-3 / 10 cm 8 / 9 (one run, against 9). Not kept: seeds 0-5 no lower, 128-133 higher, the total
-within the re-drawing's spread (a set's count moves by 1-4 between those runs).
+3 / 10 cm 8 / 9 (one run, against 9); with the relative step's part too, five runs, 13 / 18 /
+3 / 9 = 43 (all its misses 57; orbit 23 -> 9, fast contact 13 -> 19), three runs on 8-13 / 26-31 5 /
+7 -> 3 / 9; that with the steps since the last push counted x 1.86 in a stand, three runs, 3 /
+13 / 9 / 4 -> 12 / 1 / 3 / 8 (0-5 loops orbit in each). Not kept: seeds 0-5 no lower, another
+set higher in each, the totals within the re-drawing's spread (a set's count moves by 1-5
+between those runs). Beside a standing main the bully's slow-path still speed is more often
+under than over (seeds 26, 28, 31: 0.11-0.15 m/s, its designer 0.17-0.24, shown 0.218), and a
+slide taken away there lowers it further.
 """
 
 from __future__ import annotations
