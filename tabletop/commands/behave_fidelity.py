@@ -4,12 +4,14 @@ Instead of generating for one main path (--input, --out), the behaviour ``--trai
 (with ``--param``) is generated on the unseen main paths of the fidelity bench
 (visitors.unseen_main_paths: a slow hand with pauses at 30 Hz, a fast one that reverses at
 60 Hz, loops with spins in place at 45 Hz; ``--seconds`` each, drawn from ``--seed``) on the
-reactor's table, and the fidelity table is printed: the demonstration's figures beside each
-path's, with the thresholds each path misses (behaviors/puppet_master/fidelity.py). Where the
-demonstration is a shipped one of a scripted designer (a library folder or its CSV, unchanged,
-on its table), the thresholds the designer's own character misses on the same paths and the
-misses that are the engine's alone are added, as ``python -m tabletop.examples --check`` says
-them; elsewhere there is no such reference and they are left out.
+reactor's table (``--pursuit``: and against the bench's visitor going after the character, a
+closed loop, the situation a fleeing character is shown in), and the fidelity table is
+printed: the demonstration's figures beside each path's, with the thresholds each path misses
+(behaviors/puppet_master/fidelity.py). Where the demonstration is a shipped one of a
+scripted designer (a library folder or its CSV, unchanged, on its table), the thresholds the
+designer's own character misses on the same paths and the misses that are the engine's alone
+are added, as ``python -m tabletop.examples --check`` says them; elsewhere there is no such
+reference and they are left out.
 
 Times in seconds, positions in table metres.
 """
@@ -24,6 +26,8 @@ from tabletop.commands import number_in_range
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from behaviors.puppet_master.engine import Behavior
 
 # seconds of each unseen path: 20 s keeps the table to about 3 s of generation beside the
@@ -52,6 +56,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", default=None, metavar="N",
                         help="with --fidelity: which unseen main paths (default 0, as the "
                              "first seed of bench/fidelity.py)")
+    parser.add_argument("--pursuit", action="store_true",
+                        help="with --fidelity: one row more, against an unseen visitor going "
+                             "after the character (as a fleeing character is shown; "
+                             "visitors.Pursuer, 50 Hz), about 1 s more")
 
 
 def options(args: argparse.Namespace, error: type[InputError]) -> tuple[float, int] | None:
@@ -68,7 +76,8 @@ def options(args: argparse.Namespace, error: type[InputError]) -> tuple[float, i
         seed = number_in_range(0 if args.seed is None else args.seed, "--seed", "seeds", 0,
                                MAX_SEED, error, integer=True)
         return seconds, int(seed)
-    alone = [o for o, v in (("--seconds", args.seconds), ("--seed", args.seed)) if v is not None]
+    alone = [o for o, v in (("--seconds", args.seconds), ("--seed", args.seed),
+                            ("--pursuit", args.pursuit or None)) if v is not None]
     if alone:
         raise error(f"{' and '.join(alone)} go{'es' if len(alone) == 1 else ''} with "
                     "--fidelity (the fidelity table's unseen main paths)")
@@ -91,12 +100,39 @@ def unseen_paths(seed: int, seconds: float, table: Table) -> dict:
     return paths
 
 
-def fidelity_rows(behavior: Behavior, paths: dict, table: Table) -> dict:
+class Pursuer:
+    """visitors.pursuer (``times``, ``rate_hz``, ``first``, ``step``) on a table whose corner
+    is (x0, y0) instead of the origin (the demonstration's bounds): poses shifted out of it,
+    the reactor's shifted into it."""
+
+    def __init__(self, seed: int, seconds: float, table: Table) -> None:
+        import numpy as np
+
+        from behaviors.puppet_master import visitors
+        x0, y0, x1, y1 = table
+        self.hand = visitors.pursuer(seed, seconds, (x1 - x0, y1 - y0))
+        self.times, self.rate_hz = self.hand.times, self.hand.rate_hz
+        self.shift = np.array([x0, y0, 0.0])
+
+    def first(self) -> np.ndarray:
+        return self.hand.first() + self.shift
+
+    def step(self, i: int, prev: np.ndarray | None, react: np.ndarray) -> np.ndarray:
+        return self.hand.step(i, None, react[:2] - self.shift[:2]) + self.shift
+
+
+def fidelity_rows(behavior: Behavior, paths: dict, table: Table,
+                  pursuit: tuple[int, float] | None = None) -> dict:
     """{path: compared row} of ``behavior`` generated on each of ``paths`` (fidelity.evaluate)
-    against its own demonstration, made on ``table``."""
-    from behaviors.puppet_master import fidelity
+    against its own demonstration, made on ``table``; ``pursuit`` (seed, seconds): and
+    against the pursuing visitor (visitors.PURSUIT, fidelity.evaluate_pursuit)."""
+    from behaviors.puppet_master import fidelity, visitors
     demo = fidelity.demonstration_figures(behavior, table)
-    return {path: fidelity.evaluate(behavior, main, table, demo) for path, main in paths.items()}
+    out = {path: fidelity.evaluate(behavior, main, table, demo) for path, main in paths.items()}
+    if pursuit is not None:
+        out[visitors.PURSUIT] = fidelity.evaluate_pursuit(behavior, Pursuer(*pursuit, table),
+                                                          table, demo)
+    return out
 
 
 def scripted_designer(args: argparse.Namespace, table: Table) -> str | None:
@@ -119,17 +155,26 @@ def scripted_designer(args: argparse.Namespace, table: Table) -> str | None:
     return name if demo.shape == shipped.shape and np.array_equal(demo, shipped) else None
 
 
-def designer_rows(name: str, behavior: Behavior, paths: dict, table: Table) -> dict:
-    """{path: compared row} of the scripted designer's own ``name`` on ``paths``, on the
-    generation grid, against the demonstration's figures (examples.designer_table)."""
-    from behaviors.puppet_master import designers, fidelity
+def designer_rows(name: str, behavior: Behavior, paths: dict, table: Table,
+                  pursuit: tuple[int, float] | None = None) -> dict:
+    """{path: compared row} of the scripted designer's own ``name`` on ``paths`` (and against
+    the pursuing visitor of ``pursuit``, (seed, seconds)), on the generation grid, against the
+    demonstration's figures (examples.designer_table)."""
+    from behaviors.puppet_master import designers, fidelity, visitors
     demo = fidelity.demonstration_figures(behavior, table)
     rate = behavior.params.rate_hz
+
+    def row(main: np.ndarray, react: np.ndarray) -> dict:
+        return fidelity.compare(demo, fidelity.figures(main, react, rate, behavior.turn_limit,
+                                                       table))
     out = {}
     for path, main in paths.items():
         t, react = designers.reaction_on_grid(name, main, rate, (table[2], table[3]))
-        out[path] = fidelity.compare(demo, fidelity.figures(
-            fidelity.main_on_grid(main, t), react, rate, behavior.turn_limit, table))
+        out[path] = row(fidelity.main_on_grid(main, t), react)
+    if pursuit is not None:
+        _, main, react = designers.pursued_on_grid(name, Pursuer(*pursuit, table), rate,
+                                                   (table[2], table[3]))
+        out[visitors.PURSUIT] = row(main, react)
     return out
 
 
@@ -163,7 +208,8 @@ def main(args: argparse.Namespace, seconds: float, seed: int, behavior: Behavior
             f"--fidelity: the table is {w:.3g} x {h:.3g} m; the unseen main paths need "
             f"{MIN_TABLE_M:g} m a side (give --table W,H, the table the character plays on)")
     paths = unseen_paths(seed, seconds, table)
-    rows = fidelity_rows(behavior, paths, table)
+    pursuit = (seed, seconds) if args.pursuit else None
+    rows = fidelity_rows(behavior, paths, table, pursuit)
     print(f"{source}: the demonstration beside its generation on unseen main paths "
           f"({seconds:g} s each, seed {seed}, table {w:g} x {h:g} m, "
           f"{behavior.params.rate_hz:g} Hz)")
@@ -174,7 +220,7 @@ def main(args: argparse.Namespace, seconds: float, seed: int, behavior: Behavior
     if name is None:
         print(summary(rows))
     else:
-        reference = {label: designer_rows(name, behavior, paths, table)}
+        reference = {label: designer_rows(name, behavior, paths, table, pursuit)}
         print(examples.summary(table_rows, reference))
         print(f"the scripted designer's own {name} on the same paths (thresholds it misses):")
         examples.print_designer(reference)

@@ -4,7 +4,7 @@ reference only where there is one, and wrong use refused with one line and statu
 
 import pytest
 
-from behaviors.puppet_master import fidelity
+from behaviors.puppet_master import fidelity, visitors
 from behaviors.puppet_master.engine import Behavior
 from tabletop import examples
 from tabletop.commands import behave_fidelity
@@ -21,7 +21,8 @@ def table_of(out: str) -> dict[str, dict]:
     rows = {}
     for line in out.splitlines():
         words = line.split()
-        if words and words[0] in ("demonstration", *PATHS) and line.startswith("  "):
+        if words and words[0] in ("demonstration", *PATHS, visitors.PURSUIT) \
+                and line.startswith("  "):
             n = len(COLUMNS) + (0 if words[0] == "demonstration" else 3)
             rows[words[0]] = {"figures": [float(w) for w in words[1:1 + n]],
                               "misses": words[1 + n:2 + n]}
@@ -49,23 +50,40 @@ def test_a_shipped_folder_prints_the_benchs_table_with_its_designer(capsys):
     assert "(the engine's):" in out and "thresholds met" in out
 
 
+def test_pursuit_adds_the_benchs_row_against_a_pursuing_visitor(capsys):
+    assert behave("--train", SHIPPED / "afraid", "--fidelity", "--pursuit") == 0
+    out = capsys.readouterr().out
+    rows = table_of(out)
+    assert set(rows) == {"demonstration", *PATHS, visitors.PURSUIT}
+    bench = examples.pursuit_table(SHIPPED, ["afraid"], seconds=20.0, seed=0)["afraid"]
+    got = dict(zip(COLUMNS, rows[visitors.PURSUIT]["figures"]))
+    for k in COLUMNS:
+        assert got[k] == pytest.approx(bench[visitors.PURSUIT][f"gen_{k}"], abs=6e-4,
+                                       nan_ok=True), k
+    # chased, the afraid keeps away (seed 0 at 20 / 40 s: mean 0.354 / 0.281 m, contact 0,
+    # against its demonstration's 0.366 m)
+    assert 0.2 <= got["distance_mean_m"] <= 0.45 and got["contact"] <= 0.02
+    assert "of 32 thresholds met" in out and f"{visitors.PURSUIT}: " in out
+
+
 def test_an_own_demonstration_with_param_has_no_designer_columns(tmp_path, capsys):
     demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
     write_csv(tmp_path / "mine.csv", DEMO_HEADER, demo.tolist())
     assert behave("--train", tmp_path / "mine.csv", "--fidelity", "--seconds", "8", "--seed",
-                  "3", "--param", "window=20") == 0
+                  "3", "--param", "window=20", "--pursuit") == 0
     out = capsys.readouterr().out
     rows = table_of(out)
-    assert set(rows) == {"demonstration", *PATHS}
+    assert set(rows) == {"demonstration", *PATHS, visitors.PURSUIT}
     assert "designer" not in out and "engine's" not in out
-    assert "8 s each, seed 3" in out and "of 24 thresholds met" in out
+    assert "8 s each, seed 3" in out and "of 32 thresholds met" in out
     # --param applied: the figures are those of the behaviour trained with window=20, on the
-    # demonstration's area (the paths drawn on it)
+    # demonstration's area (the paths and the pursuing visitor drawn on it)
     behavior = Behavior.train(demo, window=20)
     table = tuple(float(v) for v in behavior.bounds)
+    assert table[0] > 0.0 and table[1] > 0.0        # the visitor's moves shifted onto it
     want = behave_fidelity.fidelity_rows(behavior, behave_fidelity.unseen_paths(3, 8.0, table),
-                                         table)
-    for path in PATHS:
+                                         table, (3, 8.0))
+    for path in (*PATHS, visitors.PURSUIT):
         got = dict(zip(COLUMNS, rows[path]["figures"]))
         assert got["distance_mean_m"] == pytest.approx(want[path]["gen_distance_mean_m"],
                                                        abs=6e-4)
@@ -88,6 +106,7 @@ def test_an_own_demonstration_with_param_has_no_designer_columns(tmp_path, capsy
     (["--train", "LOVER", "--fidelity", "--input", "m.csv"], "give it without --input"),
     (["--train", "LOVER", "--fidelity", "--out", "r.csv"], "give it without --out"),
     (["--train", "LOVER", "--seconds", "5"], "--seconds goes with --fidelity"),
+    (["--train", "LOVER", "--pursuit", "--input", "m.csv"], "--pursuit goes with --fidelity"),
     (["--train", "LOVER"], "required: --input, --out (or --fidelity"),
     (["--train", "LOVER", "--fidelity", "--param", "ratio=-3"], "--param"),
     (["--train", "LOVER", "--fidelity", "--table", "0.4,0.8"], "need 0.5 m a side"),
