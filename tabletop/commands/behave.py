@@ -7,12 +7,15 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from tabletop.commands import behave_fidelity
 from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
                                thousandths_hint, warn_sparse_times)
 from tabletop.frames import InputError
 
 if TYPE_CHECKING:
     import numpy as np
+
+    from behaviors.puppet_master.engine import Behavior
 
 HELP = ("train a reactive behaviour from a demonstration CSV and generate the reactor's motion "
         "for a main character's path, causally, at the generation rate")
@@ -78,11 +81,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "behaviour folder's own; NAME is one of (default): "
                              f"{param_defaults()}; their ranges and why: "
                              "behaviors/puppet_master/params.py")
-    parser.add_argument("--input", required=True, metavar="MAIN.csv",
+    parser.add_argument("--input", metavar="MAIN.csv",
                         help="main character's path: t,main_x,main_y,main_dir (seconds, "
-                             "table metres, radians), any rate")
-    parser.add_argument("--out", required=True, metavar="REACT.csv",
-                        help="output: t,react_x,react_y,react_dir, one row per generation step")
+                             "table metres, radians), any rate (required but with --fidelity)")
+    parser.add_argument("--out", metavar="REACT.csv",
+                        help="output: t,react_x,react_y,react_dir, one row per generation step "
+                             "(required but with --fidelity)")
     parser.add_argument("--rate", default=None, metavar="HZ",
                         help="generation rate in Hz (default: a behaviour folder's "
                              "rate_hz, else 40)")
@@ -90,6 +94,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="table size in metres from the origin; the reactor stays on it "
                              "(default: a behaviour folder's table_width,table_height, else the "
                              "bounds of the demonstration's positions)")
+    behave_fidelity.add_arguments(parser)
 
 
 MAX_RATE_HZ = 1000.0   # generation steps per second (the behaviours are made at 40)
@@ -274,16 +279,17 @@ def check_library_path(path: Path) -> None:
                               f"{listed}")
 
 
-def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | int]]:
+def read_folder(folder: str, out: str | None) -> tuple[np.ndarray, dict[str, float | int]]:
     """A Puppet Master behaviour folder's demonstration (n, 7) and stored parameters; ``out``
-    (--out) must not be one of its files."""
+    (--out, None with --fidelity) must not be one of its files."""
     from tabletop import library
 
     stored = library.load_behavior(folder)
     if stored.kind != "puppet_master":
         raise BehaveArgumentError(f"{folder}: a {stored.kind} behaviour, not a puppet_master one")
-    output_file(out, "--out", BehaveArgumentError, example="react.csv",
-                inputs=(Path(folder) / library.BEHAVIOR_FILE, stored.data_file))
+    if out is not None:
+        output_file(out, "--out", BehaveArgumentError, example="react.csv",
+                    inputs=(Path(folder) / library.BEHAVIOR_FILE, stored.data_file))
     return stored.demonstration, dict(stored.parameters)
 
 
@@ -323,11 +329,27 @@ def read_demonstration(args: argparse.Namespace
 
 
 def main(args: argparse.Namespace) -> int:
-    from behaviors.puppet_master.engine import Behavior, ParameterError
     from behaviors.puppet_master.fidelity import generate
+    from tabletop.files import write_csv
+
+    table_of = behave_fidelity.options(args, BehaveArgumentError)
+    if table_of is not None:      # --fidelity: (seconds, seed) of its unseen main paths
+        return behave_fidelity.main(args, *table_of, *train(args, None)[:3])
+    behavior, table, _, main_rows = train(args, args.input)
+    rows = generate(behavior, main_rows, table)
+    write_csv(args.out, OUT_COLUMNS, rows.tolist())
+    return 0
+
+
+def train(args: argparse.Namespace, main_path: str | None
+          ) -> tuple[Behavior, tuple[float, float, float, float], str, np.ndarray | None]:
+    """The behaviour ``args`` train (--train or the sequential takes, --param over a folder's
+    own), the table (x0, y0, x1, y1) in metres its reactor stays on, the file(s) the
+    demonstration came from and the rows of ``main_path`` (the main path CSV, --input; None
+    with --fidelity, which makes its own)."""
+    from behaviors.puppet_master.engine import Behavior, ParameterError
     from behaviors.puppet_master.params import Params
     from tabletop import library
-    from tabletop.files import write_csv
 
     rate = parse_rate(args.rate if args.rate is not None else "40")
     table = parse_table(args.table) if args.table is not None else None
@@ -337,9 +359,10 @@ def main(args: argparse.Namespace) -> int:
                                   "disagree; give one")
     if args.rate is not None:
         params.setdefault("rate_hz", rate)
-    output_file(args.out, "--out", BehaveArgumentError,
-                inputs=(args.train, args.train_main, args.train_react, args.input),
-                example="react.csv")
+    if args.out is not None:
+        output_file(args.out, "--out", BehaveArgumentError,
+                    inputs=(args.train, args.train_main, args.train_react, args.input),
+                    example="react.csv")
     demo, stored, source = read_demonstration(args)
     params = {"rate_hz": rate, **stored, **params}   # given over stored over the defaults
     # the table the behaviour was made on: a kept one's, or --param's over it (it trained on
@@ -347,8 +370,10 @@ def main(args: argparse.Namespace) -> int:
     named = table_from_params(given, params)
     if table is None:
         table = named
-    main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
-    check_metres(main_rows[:, 1:3], args.input, "main path")
+    main_rows = None if main_path is None else read_rows(main_path, MAIN_COLUMNS,
+                                                         "main path CSV", 1)
+    if main_rows is not None:
+        check_metres(main_rows[:, 1:3], main_path, "main path")
     check_metres(demo[:, [1, 2]], source, "demonstration's main")
     check_metres(demo[:, [4, 5]], source, "demonstration's reactor")
     folder = Path(source) if args.train is not None and Path(source).is_dir() else None
@@ -365,13 +390,8 @@ def main(args: argparse.Namespace) -> int:
         Params(rate_hz=params["rate_hz"]).check()
     except ParameterError as exc:
         raise refused(exc) from None
-    rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
-    if rows_out > MAX_ROWS:
-        why = sparse_hint(main_rows[:, 0], "; its samples")
-        raise BehaveArgumentError(f"{args.input}: the main path spans "
-                                  f"{main_rows[-1, 0] - main_rows[0, 0]:g} s, {rows_out:.3g} rows "
-                                  f"at {float(params['rate_hz']):g} Hz; at most {MAX_ROWS:,} rows "
-                                  "are generated" + why)
+    if main_rows is not None:
+        check_rows_out(main_rows, main_path, float(params["rate_hz"]))
     try:
         behavior = Behavior.train(demo, **params)
     except ParameterError as exc:
@@ -389,8 +409,19 @@ def main(args: argparse.Namespace) -> int:
                 f"{source}: the demonstration's positions span no area; give --table W,H")
     warn_still_reactor(demo, source)     # (once trained: an error is its one line)
     warn_degrees(demo, {"main_dir": 3, "react_dir": 6}, source)
-    warn_degrees(main_rows, {"main_dir": 3}, args.input)
-    warn_sparse_times(main_rows[:, 0], "behave", args.input, "the main path's samples")
-    rows = generate(behavior, main_rows, table)
-    write_csv(args.out, OUT_COLUMNS, rows.tolist())
-    return 0
+    if main_rows is not None:
+        warn_degrees(main_rows, {"main_dir": 3}, main_path)
+        warn_sparse_times(main_rows[:, 0], "behave", main_path, "the main path's samples")
+    return behavior, table, source, main_rows
+
+
+def check_rows_out(main_rows: np.ndarray, main_path: str, rate_hz: float) -> None:
+    """A main path (n, 4) that asks more than MAX_ROWS generation steps at ``rate_hz`` is
+    refused naming its file (``main_path``)."""
+    rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * rate_hz
+    if rows_out > MAX_ROWS:
+        why = sparse_hint(main_rows[:, 0], "; its samples")
+        raise BehaveArgumentError(f"{main_path}: the main path spans "
+                                  f"{main_rows[-1, 0] - main_rows[0, 0]:g} s, {rows_out:.3g} rows "
+                                  f"at {rate_hz:g} Hz; at most {MAX_ROWS:,} rows are generated"
+                                  + why)

@@ -43,7 +43,7 @@ def test_an_option_with_a_default_says_it_in_its_help():
 @pytest.mark.parametrize("command, option, unit", [
     ("run", "--seconds", "seconds"), ("status", "--seconds", "seconds"),
     ("track", "--fps", "frames per second"), ("track", "--calibration", "pixels"),
-    ("behave", "--rate", "Hz"), ("behave", "--table", "metres"),
+    ("behave", "--rate", "Hz"), ("behave", "--table", "metres"), ("behave", "--seconds", "seconds"),
     ("behave", "--input", "seconds, table metres, radians"),
     ("behave", "--train-main", "seconds, table metres, radians"),
     ("behave", "--train-react", "seconds, table metres, radians"),
