@@ -167,7 +167,9 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
     """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
     atomically. Returns a short message for the operator. A name the library holds already
     (an entry, or a file, e.g. a template skipped at load) is refused (:class:`NameTaken`: the
-    stage keeps the take under the next free name): nothing saved is written over."""
+    stage keeps the take under the next free name): nothing saved is written over. A keep
+    whose actions.yaml cannot be written (a full disk) removes the CSV it wrote: left there, it
+    was in no entry, took the take's name from every later keep and stayed for good."""
     d = folder / character
     with library_lock(folder, character):
         file = ActionsFile(folder, character)
@@ -176,8 +178,13 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
         if action in library_names(folder, character, entries):
             raise NameTaken(f"{d}: {action!r} is in the library already; not written over")
         write_csv(d / csv_name, *template_table(samples, names, rate_hz))
-        write_library(folder, character, entries + [{"name": action, "template": csv_name,
-                                                     "motion": motion}], window=file.window())
+        try:
+            write_library(folder, character, entries + [{"name": action, "template": csv_name,
+                                                         "motion": motion}],
+                          window=file.window())
+        except BaseException:
+            (d / csv_name).unlink(missing_ok=True)
+            raise
     return f"kept {action} -> {motion} in {d}"
 
 
