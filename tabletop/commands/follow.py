@@ -47,7 +47,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         f"to {SIGMA[1]:g} (default 0.2)")
     p.add_argument("--window", default="15", metavar="N",
                    help=f"half-width of the forward window, in template samples, {WINDOW[0]} to "
-                        f"{WINDOW[1]} (default 15)")
+                        f"{WINDOW[1]} (default 15): the states either side of the followed "
+                        "progress that are weighed, so how far it may reach, nothing else (a still "
+                        "input is valid at no window)")
     p.add_argument("--invariance", choices=("none", "offset", "scale"), default="none",
                    help="follow a performance relative to where each gesture begins (offset), "
                         "and of any size (scale; puck and touch paths are followed so live); "

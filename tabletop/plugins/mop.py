@@ -53,7 +53,8 @@ from tabletop.plugins.mop_files import (MopError, MotionLoader, action_entries, 
                                         configured_action, configured_actions, load_template,
                                         read_template, resolve_motion, twin_of)
 from tabletop.plugins.mop_library import (WINDOW_RANGE, ActionsFile, check_shared_library,
-                                          library_actions, library_names, save_to_library)
+                                          configured_templates, library_actions, library_names,
+                                          save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
@@ -370,7 +371,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     read: dict[str, tuple] = {}              # its folder's signature: the studio's first baseline
     windows: dict[str, int] = {}             # the follower windows the studio saved
     bad_window: dict[str, str] = {}          # why a character's saved window is not read
-    configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
+    chars = {c["name"]: c for c in options["characters"]}
     # a kiosk's start (or its replay) runs without the configured actions it cannot read
     started = ctx.shared.get("started_without", {})     # (a replay's: the run's, per engine)
     without = bool(ctx.shared.get("kiosk_start") or options["name"] in started)
@@ -403,7 +404,8 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                 log.info("MOP character %r follows with the window %d saved in its actions.yaml "
                          "(the config's follower.window: %d)", c["name"], window, fo["window"])
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
-                                        rate, loader, configured[c["name"]], file)
+                                        rate, loader, configured_templates(c, tmpl), file,
+                                        c["performer"])
             for action, samples in kept:
                 actions.append(action)
                 tmpl[action.name] = (c["performer"], samples)
@@ -443,5 +445,6 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read
     stage.library_actions = lambda character: library_actions(          # the studio reloads
         library, character, performers[bound[character]].names, rate, loaders[character],
-        configured[character])
+        configured_templates(chars[character], stage.templates[character]), None,
+        bound[character])
     return stage

@@ -6,7 +6,7 @@ a keep."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Collection, ContextManager
+from typing import Any, Collection, ContextManager, Mapping
 
 import numpy as np
 
@@ -14,7 +14,7 @@ from behaviors.mop.puppetry import Action
 from tabletop.files import (MAX_DESCRIPTION_BYTES, NameTaken, UnreadableText, atomic_write_text,
                             parse_yaml, read_text_within, write_csv)
 from tabletop.frames import InputError
-from tabletop.plugins.mop_files import MopError, MotionLoader, load_template
+from tabletop.plugins.mop_files import MopError, MotionLoader, load_template, twin_of
 from tabletop.swap import exclusive
 
 LIBRARY_FILE = "actions.yaml"
@@ -101,20 +101,28 @@ def read_library(folder: Path, character: str) -> list[dict[str, str]]:
 
 def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_hz: float,
                     loader: MotionLoader, configured: Collection[str] = (),
-                    file: ActionsFile | None = None
+                    file: ActionsFile | None = None, performer: str = ""
                     ) -> tuple[list[tuple[Action, np.ndarray]], list[str]]:
     """The kept actions of ``character`` in the library ``folder`` (each with its template at
     ``rate_hz``), and one message per bad file or entry: skipped, the others load. An entry
     without a name, with the name of an earlier entry or of an action the config gives the
     character (``configured``) is bad, skipped and named with its file rather than stopping the
     engine's start or silently replacing the earlier entry's action (a repeated name) or the
-    configured action (a configured one). ``file``: its actions.yaml as already read."""
+    configured action (a configured one). So is one whose template holds the samples of a
+    configured action's or an earlier entry's (:func:`~tabletop.plugins.mop_files.twin_of`),
+    as the config's own twins are refused: the follower took the two as one and the entry
+    never played, without a word (an entry "round" on the config's circle.csv: a circle
+    performed, 121 ticks, drove the configured circle 86, "round" none).
+    ``configured`` maps each configured action's name to (its performer, its samples, its
+    template file) for that check (:func:`configured_templates`); ``performer``: the
+    character's, which its kept actions follow. ``file``: its actions.yaml as already read."""
     try:
         entries = (file or ActionsFile(folder, character)).entries()
     except MopError as exc:
         return [], [str(exc)]
     out, problems = [], []
     seen: set[str] = set()
+    before = [(n, *v) for n, v in configured.items()] if isinstance(configured, Mapping) else []
     for a in entries:
         p = Path(a["template"])
         where = f"{folder / character / LIBRARY_FILE}: action {a['name']!r}"
@@ -126,16 +134,30 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
             problems.append(f"{where} {why}")
             continue
         try:
-            samples = load_template(p if p.is_absolute() else folder / character / p, names,
-                                    rate_hz)
+            path = p if p.is_absolute() else folder / character / p
+            samples = load_template(path, names, rate_hz)
             clip = loader(a["motion"])
             if loader.rig is not None:   # a clip the character cannot play (a face's for a
                 loader.rig.check(clip)   # creature) stopped the engine's start
+            twin = twin_of((a["name"], performer, samples, path), before)
+            if twin:
+                problems.append(f"{where}: {twin}")
+                continue
             out.append((Action(a["name"], clip), samples))
             seen.add(a["name"])   # only a kept entry claims its name: a later fixed copy loads
         except InputError as exc:
             problems.append(f"{where}: {exc}")
     return out, problems
+
+
+def configured_templates(character: dict[str, Any],
+                         templates: Mapping[str, tuple[str, np.ndarray]]
+                         ) -> dict[str, tuple[str, np.ndarray, Any]]:
+    """Each action the config gives ``character`` (its config entry) that is followed
+    (``templates``: action -> (performer, samples)): (its performer, its samples, its template
+    file), for :func:`library_actions`' check of templates holding the same samples."""
+    return {a["name"]: (*templates[a["name"]], a["template"]) for a in character["actions"]
+            if a["name"] in templates}
 
 
 def library_names(folder: Path, character: str,
@@ -167,7 +189,9 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
     """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
     atomically. Returns a short message for the operator. A name the library holds already
     (an entry, or a file, e.g. a template skipped at load) is refused (:class:`NameTaken`: the
-    stage keeps the take under the next free name): nothing saved is written over."""
+    stage keeps the take under the next free name): nothing saved is written over. A keep
+    whose actions.yaml cannot be written (a full disk) removes the CSV it wrote: left there, it
+    was in no entry, took the take's name from every later keep and stayed for good."""
     d = folder / character
     with library_lock(folder, character):
         file = ActionsFile(folder, character)
@@ -176,8 +200,13 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
         if action in library_names(folder, character, entries):
             raise NameTaken(f"{d}: {action!r} is in the library already; not written over")
         write_csv(d / csv_name, *template_table(samples, names, rate_hz))
-        write_library(folder, character, entries + [{"name": action, "template": csv_name,
-                                                     "motion": motion}], window=file.window())
+        try:
+            write_library(folder, character, entries + [{"name": action, "template": csv_name,
+                                                         "motion": motion}],
+                          window=file.window())
+        except BaseException:
+            (d / csv_name).unlink(missing_ok=True)
+            raise
     return f"kept {action} -> {motion} in {d}"
 
 

@@ -30,7 +30,8 @@ def test_tabletop_follow_with_a_wide_window_drives_nothing_on_a_still_puck(tmp_p
     # follow's defaults (features as recorded) with the six example gestures: a window of
     # half-width 40 holds the whole line, whose end lies 0.11 sigma from its start; the end
     # won after 3-8 s, its progress 0 -> 0.99 counted as covered arc: 200 of 300 rows valid
-    # on this draw (231 on draw 3), none with --window 15; none at either with the bound
+    # on this draw (231 on draw 3), none with --window 15; none at either with the bound, nor
+    # at --window 5, 20, 80, 200 or 1000 on draws 1-3, with --invariance none or scale
     path = tmp_path / "still.csv"
     with path.open("w", newline="") as f:
         w = csv.writer(f)
@@ -39,12 +40,13 @@ def test_tabletop_follow_with_a_wide_window_drives_nothing_on_a_still_puck(tmp_p
     gestures = EXAMPLES / "mop" / "gestures"
     templates = [a for n in NAMES for a in ("--template", f"{n}={gestures / f'{n}.csv'}")]
     out = tmp_path / "out.csv"
-    assert cli(["follow", *templates, "--input", str(path), "--out", str(out),
-                "--window", "40"]) == 0
-    with out.open(newline="") as f:
-        rows = list(csv.DictReader(f))
-    assert len(rows) == 300
-    assert sum(r["valid"] == "1" for r in rows) <= 3
+    for window in ("40", "80"):
+        assert cli(["follow", *templates, "--input", str(path), "--out", str(out),
+                    "--window", window]) == 0
+        with out.open(newline="") as f:
+            rows = list(csv.DictReader(f))
+        assert len(rows) == 300
+        assert not any(r["valid"] == "1" for r in rows), window
 
 
 def test_a_group_with_a_wide_window_drives_nothing_on_still_pucks_as_its_followers_alone(

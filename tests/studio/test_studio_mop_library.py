@@ -278,3 +278,33 @@ def test_a_lock_call_that_fails_raises_its_own_error():
     with pytest.raises(OSError) as err:
         _flock_within(fd, 30.0, "no-such-lock")
     assert err.value.errno == errno.EBADF
+
+
+def test_a_keep_whose_actions_file_cannot_be_written_leaves_no_template_behind(tmp_path,
+                                                                               monkeypatch):
+    """A full disk at the keep's actions.yaml: the library is as it was (its entries and
+    files), so the take is kept again under its own name once the disk takes it."""
+    import errno
+    import os
+
+    import pytest
+
+    from tabletop.plugins.mop_library import read_library, save_to_library
+    lib, x = tmp_path / "lib", np.cumsum(np.full((40, 2), 0.01), axis=0)
+    save_to_library(lib, "face", "take1", x, ("dx", "dy"), "laugh", 30.0)
+    before = {p.name: p.read_bytes() for p in (lib / "face").iterdir()}
+    replace = os.replace
+
+    def full(src, dst):
+        if str(dst).endswith("actions.yaml"):
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", full)
+    with pytest.raises(Exception, match="actions.yaml"):
+        save_to_library(lib, "face", "take2", x, ("dx", "dy"), "talk", 30.0)
+    assert {p.name: p.read_bytes() for p in (lib / "face").iterdir()} == before
+    monkeypatch.setattr(os, "replace", replace)
+    assert save_to_library(lib, "face", "take2", x, ("dx", "dy"), "talk", 30.0).startswith(
+        "kept take2 -> talk")
+    assert [e["name"] for e in read_library(lib, "face")] == ["take1", "take2"]

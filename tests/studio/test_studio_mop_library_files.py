@@ -196,3 +196,35 @@ def test_a_bad_library_file_at_the_start_is_logged_once(tmp_path, caplog):
     said = [r.getMessage() for r in caplog.records if "lizard/actions.yaml" in r.getMessage()]
     assert len(said) == 1, said
     assert "1 bad library file(s)" in table.status
+
+
+def test_a_library_entry_on_the_samples_of_another_action_is_skipped_naming_both(tmp_path):
+    """An entry edited by hand onto the config's circle.csv (or a copy of another entry's
+    template) is reported and skipped, at start and when the studio reloads: loaded, the
+    follower took it and the configured circle as one and it never played, without a word
+    (measured: a circle performed, 121 ticks: the configured circle drove 86, 'round' none),
+    as the config's own twins are refused (mop_files.twin_of)."""
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    circle = EXAMPLES / "mop/gestures/circle.csv"
+    (lib / "face" / "mine.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "copy.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "actions.yaml").write_text(
+        f"actions:\n- {{name: round, template: {circle}, motion: laugh}}\n"
+        "- {name: mine, template: mine.csv, motion: wink}\n"
+        "- {name: again, template: copy.csv, motion: angry}\n")
+    engine = build(designer_config(tmp_path), tmp_path)
+    problems = engine.library_problems["face"]
+    assert len(problems) == 2, problems
+    assert "action 'round': the same template as action 'circle'" in problems[0] \
+        and str(circle) in problems[0]
+    assert "action 'again'" in problems[1] and "copy.csv holds the same samples as the " \
+        "template of action 'mine'" in problems[1]
+    assert set(engine.puppets["face"].actions) == {"circle", "mine"}
+    table = StudioTable(engine, lib, focus="mop/face")
+    table.rest(1.0)
+    driven = [ch["face"].valid and ch["face"].action == "circle"
+              for _, ch in table.perform("circle")]
+    assert sum(driven) >= 60, sum(driven)         # (86 measured, as with the entry loaded)
+    kept, again = engine.library_actions("face")           # as the studio reloads it
+    assert [a.name for a, _ in kept] == ["mine"] and again == problems

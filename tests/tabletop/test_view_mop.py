@@ -16,7 +16,7 @@ from behaviors.mop.creatures import FaceModel, creature_skeleton, hybrid_clips
 from behaviors.mop.puppetry import FaceRig, HybridRig, PlanarRig
 from behaviors.motion.skeleton import place
 from tabletop.config import load_config
-from tabletop.drawing.characters import hybrid_parts
+from tabletop.drawing.topology import hybrid_parts
 from tabletop.frames import CharacterState, Frame
 from tabletop.plugins.mop_rigs import HYBRID_HEAD
 from tabletop.view import INVITATIONS, Renderer, invitation
