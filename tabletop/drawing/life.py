@@ -29,6 +29,11 @@ HINT_TAU_S = 0.15       # a hinted pose (early feedback) fades in and out with t
 HINT_GONE_S = 0.04
 JUMP_SPEED = 5.0        # m/s: a character moved faster than this between frames has jumped
 GLIDE_S = 0.4           # ... and is drawn gliding from where it was to its place over this
+# ... when it was seen there (drawn at least this opaque): a place drawn unseen is no place to
+# glide from. examples/reactors.yaml's mutual pair waits one tick at the table's centre, drawn
+# at alpha 0, then stands 59 px apart at 1280x720: both glided out of that one spot, the one
+# below hidden by the one on top (30 px apart in frame 13 at 60 Hz, 40 px in frame 14)
+SEEN_ALPHA = 0.05
 
 
 def ease_out_back(u: float) -> float:
@@ -159,7 +164,8 @@ class Lives:
                 k = 1.0 - math.exp(-dt / SPEED_TAU_S)
                 vx, vy = (c.x - p.state.x) / dt, (c.y - p.state.y) / dt
                 if not math.hypot(vx, vy) <= JUMP_SPEED:   # a jump (or a broken pose)
-                    if c.points is None and math.isfinite(vx) and math.isfinite(vy):
+                    if c.points is None and math.isfinite(vx) and math.isfinite(vy) \
+                            and p.alpha(p.t) >= SEEN_ALPHA:
                         ox, oy = p.offset(t)   # glide on from where it is drawn now
                         p.glide = (t, p.state.x + ox - c.x, p.state.y + oy - c.y)
                     vx = vy = 0.0
