@@ -29,6 +29,16 @@ HINT_TAU_S = 0.15       # a hinted pose (early feedback) fades in and out with t
 HINT_GONE_S = 0.04
 JUMP_SPEED = 5.0        # m/s: a character moved faster than this between frames has jumped
 GLIDE_S = 0.4           # ... and is drawn gliding from where it was to its place over this
+# ... when it was seen there (drawn at least this opaque): a place drawn unseen is no place to
+# glide from. examples/reactors.yaml's mutual pair waits one tick at the table's centre, drawn
+# at alpha 0, then stands 59 px apart at 1280x720: both glided out of that one spot, the one
+# below hidden by the one on top (30 px apart in frame 13 at 60 Hz, 40 px in frame 14)
+SEEN_ALPHA = 0.05
+# Reactors waiting on one spot (each engine's waiting place is the table's centre) are drawn side
+# by side, this many of the largest one's body lengths apart (the bodies ~0.7 of their length
+# wide: 6 px clear at 1280x720): examples/reactors.yaml with its pucks not yet down drew lover,
+# stalker and bully as one blob (the bully's, on top of the two).
+ROW_GAP = 0.9
 
 
 def ease_out_back(u: float) -> float:
@@ -97,19 +107,22 @@ class Presence:
     hint: float = 0.0           # strength 0..1 of the hinted pose shown faintly (early feedback)
     hint_points: object = None  # the last hinted pose (N x 2, table metres), kept while it fades
     glide: tuple[float, float, float] | None = None   # (t, dx, dy m): a jump being glided
+    apart: tuple[float, float] = (0.0, 0.0)   # (dx, dy m): its place in a row of waiting ones
 
     def offset(self, t: float) -> tuple[float, float]:
         """Where it is drawn, relative to its state's place (metres): after a jump, the way back
         to where it was drawn, easing to nothing over ``GLIDE_S`` (a reactor waiting at the
-        table's centre leapt 24 cm in a frame to its first place when a puck was put down)."""
+        table's centre leapt 24 cm in a frame to its first place when a puck was put down),
+        and its place in a row of reactors waiting on one spot (:func:`rows`)."""
+        ax, ay = self.apart
         if self.glide is None:
-            return 0.0, 0.0
+            return ax, ay
         t0, dx, dy = self.glide
         if not 0.0 <= t - t0 < GLIDE_S:     # glided, or a frame time before the jump's
             self.glide = None
-            return 0.0, 0.0
+            return ax, ay
         w = 1.0 - smoothstep((t - t0) / GLIDE_S)
-        return dx * w, dy * w
+        return ax + dx * w, ay + dy * w
 
     def alpha(self, t: float) -> float:
         """Opacity 0..1 now: fading in after ``born``, fading out after ``gone``."""
@@ -159,9 +172,11 @@ class Lives:
                 k = 1.0 - math.exp(-dt / SPEED_TAU_S)
                 vx, vy = (c.x - p.state.x) / dt, (c.y - p.state.y) / dt
                 if not math.hypot(vx, vy) <= JUMP_SPEED:   # a jump (or a broken pose)
-                    if c.points is None and math.isfinite(vx) and math.isfinite(vy):
+                    if c.points is None and math.isfinite(vx) and math.isfinite(vy) \
+                            and p.alpha(p.t) >= SEEN_ALPHA:
                         ox, oy = p.offset(t)   # glide on from where it is drawn now
-                        p.glide = (t, p.state.x + ox - c.x, p.state.y + oy - c.y)
+                        p.glide = (t, p.state.x + ox - c.x - p.apart[0],
+                                   p.state.y + oy - c.y - p.apart[1])
                     vx = vy = 0.0
                 if not (math.isfinite(p.vx) and math.isfinite(p.vy)):
                     p.vx = p.vy = 0.0
@@ -177,6 +192,7 @@ class Lives:
                 p.hint_points = c.hint_points
             p.state, p.t = c, t
             out.append(p)
+        rows(t, out)
         if len(now) == len(self.presences):     # (none left)
             return out
         for name, p in list(self.presences.items()):
@@ -189,6 +205,31 @@ class Lives:
             else:
                 out.append(p)
         return out
+
+
+def rows(t: float, presences: Sequence[Presence]) -> None:
+    """Set ``apart`` of reactors waiting (not valid) on one spot (to 1 mm): side by side across
+    their heading, ROW_GAP of the largest body length apart, in the characters' order; 0 for
+    every other. A presence seen (alpha >= SEEN_ALPHA) whose ``apart`` changes glides there."""
+    spots: dict[tuple, list[Presence]] = {}
+    for p in presences:
+        c = p.state
+        if c.kind == "reactor" and not c.valid and c.points is None:
+            spots.setdefault((round(c.x, 3), round(c.y, 3)), []).append(p)
+    for p in presences:
+        c = p.state
+        new = (0.0, 0.0)
+        row = spots.get((round(c.x, 3), round(c.y, 3)), ()) if c.kind == "reactor" else ()
+        at = [i for i, q in enumerate(row) if q is p]
+        if len(row) > 1 and at:
+            gap = ROW_GAP * max(q.state.size for q in row)
+            k = (len(row) - 1) / 2 - at[0]
+            new = (-k * gap * math.sin(c.heading), k * gap * math.cos(c.heading))
+        if new != p.apart:
+            ox, oy = p.offset(t)
+            p.apart = new
+            if p.alpha(t) >= SEEN_ALPHA:
+                p.glide = (t, ox - new[0], oy - new[1])
 
 
 class TrailPath:

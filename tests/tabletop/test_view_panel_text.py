@@ -45,3 +45,37 @@ def test_a_wrapped_line_stays_inside_the_panels_width():
     for px in (13, 20, 30):
         img = screens.panel([line], px, 10, width=300, keep=False)
         assert img.get_width() <= 300, (px, img.get_width())
+
+
+def lit_rows(img: pygame.Surface) -> list[tuple[int, int]]:
+    """The panel's text rows: (top, bottom) runs of pixel rows holding lit text."""
+    a = pygame.surfarray.array3d(img).astype(np.int16).sum(axis=2)     # (x, y)
+    on = np.flatnonzero((a > 300).any(axis=0))
+    runs, start = [], on[0]
+    for y0, y1 in zip(on, on[1:]):
+        if y1 > y0 + 1:
+            runs.append((start, y0))
+            start = y1
+    return runs + [(start, on[-1])]
+
+
+def test_a_line_wraps_between_its_fields_before_inside_one():
+    """examples/mop.yaml's overlay, narrowed to 320 px at 1280x720 to end before the dancer:
+    its source line read "... scripted visitor  age" over "0 ms" (the figure cut from its
+    name); it wraps between its fields, on as many lines. Real surface: the last row's lit
+    width 32 -> 60 px (20 px font)."""
+    line = "source performers: ok  scripted visitor  age 0 ms"
+    assert screens.fit_lines(line, screens.Sampled(20), 300) == [
+        "source performers: ok  scripted visitor", "age 0 ms"]
+    img = screens.panel([line], 20, 10, width=320)
+    rows = lit_rows(img)
+    assert len(rows) == 2, rows
+    a = pygame.surfarray.array3d(img).astype(np.int16).sum(axis=2)
+    cols = np.flatnonzero((a[:, rows[1][0]:rows[1][1] + 1] > 300).any(axis=1))
+    assert cols[-1] - cols[0] + 1 > 45, (cols[0], cols[-1])
+    # a field wider than a line is still cut at its spaces, from where the line stands
+    long = "lover: playing lover  " + "waiting for the nearest of two mains " * 3
+    assert all(screens.Sampled(20).size(p)[0] <= 300
+               for p in screens.fit_lines(long, screens.Sampled(20), 300))
+    assert screens.fit_lines(long, screens.Sampled(20), 300)[0].startswith(
+        "lover: playing lover  waiting")
