@@ -84,6 +84,8 @@ class WindowedForward:
         # ... and its density spread over its length: minus log of its normaliser over a
         # point's, 1 + 2 half / (sqrt(2 pi) sigma), in the prescaled distances' nats
         self._lift = np.log1p(self._half * (2.0 / math.sqrt(math.pi)))
+        self._stretched = (np.logical_or.reduceat(self._half > 0, self._starts) if k
+                           else np.zeros(0, bool))
         # step_windows' scratch: seven windows rounded up to whole vectors of eight states
         self._scratch = np.empty((7, (self._w + 7) // 8 * 8))
         self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) \
@@ -145,7 +147,7 @@ class WindowedForward:
                      self._fresh, self.half_window, self._back, self._fwd,
                      self.transitions.restart, self.floor, self._const, self._ll,
                      self._stay, self._dwells, self._scratch, self._tangent, self._half,
-                     self._lift)
+                     self._lift, self._stretched)
         self.steps += 1
         self._fresh[:] = False
         return self._ll.copy()

@@ -89,19 +89,47 @@ def _transit(x: np.ndarray, y: np.ndarray, n: int, back: float, fwd: np.ndarray,
 
 
 @compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
-def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.ndarray,
-               tangent: np.ndarray, half: np.ndarray, lift: np.ndarray) -> float:
+def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.ndarray) -> float:
     """Squared distances (prescaled) of ``n`` states from ``first`` on to z; returns the least.
-    A state stretched along its path (:mod:`behaviors.mop.stretch`: unit ``tangent``, prescaled
-    ``half``-length) is a segment: the part of the distance along it, up to ``half``, is not
-    counted (``c (2a - c)`` with ``c`` that part: exactly 0 for a point state), and its density
-    is spread over its length (``lift``: minus its log normaliser over a point's, 0 for a point).
     A puck's two features in one pass without the loop over features (the forward step 13 %
     faster, hot and cold: ``bench/mop.py``'s group, same process). The least taken in four
     interleaved parts (one chain of minima waits for each state's distance): this loop's share
     of step_windows' perf samples 14 -> 11 %, but step_windows' share of the tick 19.4 -> 19.8 %
     and its thread time p10 175, 185, 193 -> 184, 181, 183 us (alternating processes, load
     16): not taken."""
+    best = np.inf
+    if z.size == 2:
+        z0, z1 = z[0], z[1]
+        for r in range(n):
+            u = _U(first + r)
+            d0 = means[u, 0] - z0
+            d1 = means[u, 1] - z1
+            acc = d0 * d0 + d1 * d1
+            out[r] = acc
+            best = min(best, acc)
+        return best
+    for r in range(n):
+        acc = 0.0
+        for i in range(z.size):
+            d = means[first + r, i] - z[i]
+            acc += d * d
+        out[r] = acc
+        if acc < best:
+            best = acc
+    return best
+
+
+@compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
+def _stretched_distances(means: np.ndarray, first: int, z: np.ndarray, n: int,
+                          out: np.ndarray, tangent: np.ndarray, half: np.ndarray,
+                          lift: np.ndarray) -> float:
+    """:func:`_distances` of a template with stretched states (only those: read for every
+    template, the stretch doubled the forward's median in DESIGN's group, 0.38 -> 0.71 ms): a
+    state stretched along its path (:mod:`behaviors.mop.stretch`: unit ``tangent``, prescaled
+    ``half``-length) is a segment: the part of the distance along it, up to ``half``, is not
+    counted (``c (2a - c)`` with ``c`` that part: exactly 0 for a point state), and its density
+    is spread over its length (``lift``: minus its log normaliser over a point's, 0 for a point).
+    """
     best = np.inf
     if z.size == 2:
         z0, z1 = z[0], z[1]
@@ -174,14 +202,16 @@ def _moments(x: np.ndarray, n: int) -> tuple[float, float, float]:
 # the forward step 306, 328, 340, 348 -> 246, 250, 257, 268 us; the same results to the bit.
 @compiled(numba.void(_F2, _I1, _I1, _I1, _B1, _F2, _F2, _F2, _F1, _I1, _F1, _F2, _I1, _B1,
                      numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1,
-                     _F1, _B1, _F2, _F2, _F1, _F1), *_CALLS_INTO, fastmath=CONTRACT, _nrt=False)
+                     _F1, _B1, _F2, _F2, _F1, _F1, _B1), *_CALLS_INTO, fastmath=CONTRACT,
+          _nrt=False)
 def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: np.ndarray,
                  start_tail: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray,
                  s: np.ndarray, lo: np.ndarray, mean: np.ndarray, mom: np.ndarray,
                  entries: np.ndarray, fresh: np.ndarray, half: int, back: float, fwd: np.ndarray,
                  eps: float, floor: float, const: np.ndarray, out: np.ndarray,
                  stay: np.ndarray, dwells: np.ndarray, scratch: np.ndarray,
-                 tangent: np.ndarray, spans: np.ndarray, lift: np.ndarray) -> None:
+                 tangent: np.ndarray, spans: np.ndarray, lift: np.ndarray,
+                 stretched: np.ndarray) -> None:
     """Advance every template's windows by one step (see the module docstring).
 
     ``means`` (states, d) and ``z`` (K, d) prescaled by 1 / (sigma sqrt 2); ``a``, ``b`` (K, w):
@@ -193,7 +223,8 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     transitions move the rest (a template's holds), used for the templates ``dwells`` (K,).
     ``scratch`` (7, w rounded up to 8): the working windows (overwritten). ``tangent``
     (states, d), ``spans``, ``lift`` (states,): each state's stretch along its path (direction,
-    half-length prescaled, log normaliser; :mod:`behaviors.mop.stretch`), 0 for a point."""
+    half-length prescaled, log normaliser; :mod:`behaviors.mop.stretch`), 0 for a point, read
+    only for the templates ``stretched`` (K,)."""
     k, w = a.shape
     logs = floor <= 0.0
     start_floor = START_FLOOR if floor > 0.0 else 0.0
@@ -230,9 +261,15 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
         full = logs or not at_start      # the first-states window computed in full
         n8 = (n + 7) // 8 * 8
         zj = z[j]
-        m = _distances(means, starts[j] + lo0, zj, n, lb, tangent, spans, lift)
-        if full:
-            m = min(m, _distances(means, starts[j], zj, n, lbs, tangent, spans, lift))
+        if stretched[j]:
+            m = _stretched_distances(means, starts[j] + lo0, zj, n, lb, tangent, spans, lift)
+            if full:
+                m = min(m, _stretched_distances(means, starts[j], zj, n, lbs, tangent, spans,
+                                                lift))
+        else:
+            m = _distances(means, starts[j] + lo0, zj, n, lb)
+            if full:
+                m = min(m, _distances(means, starts[j], zj, n, lbs))
         for r in range(n, n8):   # (a longer window's states may lie there)
             lb[r] = lbs[r] = np.inf
         aj, bj = a[j], b[j]
