@@ -42,6 +42,7 @@ from behaviors.mop import commitment, fresh_refusal
 from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
+from behaviors.mop.stretch import state_stretches
 from behaviors.mop.state import FollowState, SampleError
 from behaviors.mop.turning import Turning
 from behaviors.mop.follower_validity import Validity
@@ -168,8 +169,11 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
         moves = Transitions(tuple(transitions), backward, restart, float(dwell))
-        self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
-                                       transitions=moves, floor=floor)
+        fb = self._fbank   # its states stretched along fast stretches (behaviors.mop.stretch)
+        self.forward = WindowedForward(fb, sigma=sigma, half_window=int(window),
+                                       transitions=moves, floor=floor,
+                                       stretch=state_stretches(fb.means, fb.starts, fb.lengths,
+                                                               self.sigma))
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
         self._null2 = self.null_distance ** 2

@@ -42,7 +42,8 @@ class WindowedForward:
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
                  transitions: Transitions = Transitions(), floor: float = 1e-8,
-                 dims: np.ndarray | None = None, stay: np.ndarray | None = None) -> None:
+                 dims: np.ndarray | None = None, stay: np.ndarray | None = None,
+                 stretch: tuple[np.ndarray, np.ndarray] | None = None) -> None:
         if not (sigma > 0 and math.isfinite(sigma)):
             raise ValueError(f"sigma must be a positive number, got {sigma}")
         if int(half_window) < 1:
@@ -74,6 +75,17 @@ class WindowedForward:
         # ``stay`` (states,) given: a group's, each member's own)
         self._stay = (dwell_states(bank, transitions.dwell) if stay is None
                       else np.ascontiguousarray(stay, dtype=float))
+        # each state's stretch along its path (behaviors.mop.stretch; none given: points, as
+        # the paper's states), the half-length prescaled as the states
+        tangent, half = stretch if stretch is not None else (np.zeros_like(bank.means),
+                                                              np.zeros(len(bank.means)))
+        self._tangent = np.ascontiguousarray(tangent, dtype=float)
+        self._half = np.ascontiguousarray(np.asarray(half, dtype=float) * self._prescale)
+        # ... and its density spread over its length: minus log of its normaliser over a
+        # point's, 1 + 2 half / (sqrt(2 pi) sigma), in the prescaled distances' nats
+        self._lift = np.log1p(self._half * (2.0 / math.sqrt(math.pi)))
+        self._stretched = (np.logical_or.reduceat(self._half > 0, self._starts) if k
+                           else np.zeros(0, bool))
         # step_windows' scratch: seven windows rounded up to whole vectors of eight states
         self._scratch = np.empty((7, (self._w + 7) // 8 * 8))
         self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) \
@@ -134,7 +146,8 @@ class WindowedForward:
                      self._a, self._b, self._s, self.lo, self.mean, self._mom, self.entries,
                      self._fresh, self.half_window, self._back, self._fwd,
                      self.transitions.restart, self.floor, self._const, self._ll,
-                     self._stay, self._dwells, self._scratch)
+                     self._stay, self._dwells, self._scratch, self._tangent, self._half,
+                     self._lift, self._stretched)
         self.steps += 1
         self._fresh[:] = False
         return self._ll.copy()
@@ -186,13 +199,16 @@ class WindowedForward:
 
 
 def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float, half_window: int,
-                      transitions: Transitions, floor: float = 0.0, stay: np.ndarray | None = None
+                      transitions: Transitions, floor: float = 0.0, stay: np.ndarray | None = None,
+                      stretch: tuple[np.ndarray, np.ndarray] | None = None
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:class:`WindowedForward` written out plainly for one template over a whole sequence, state
     by state (equations 2-7, the floor, the first-states window and re-entry), for checking.
 
     ``states`` (N, d) and ``observations`` (T, d) standardised; ``stay`` (N,): each state's
-    share that stays before the transitions move the rest (none by default). Returns per step the
+    share that stays before the transitions move the rest (none by default); ``stretch``:
+    each state's unit direction (N, d) and half-length (N,) along its path
+    (:mod:`behaviors.mop.stretch`; none by default: points). Returns per step the
     mean state, its variance (states squared), the log-likelihood and the re-entries so far.
     """
     n, d = states.shape
@@ -221,7 +237,15 @@ def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float
         return pred
 
     for t, o in enumerate(observations):
-        logb = -0.5 * np.sum((states - o) ** 2, axis=1) / sigma ** 2
+        gap = states - o
+        d2 = np.sum(gap ** 2, axis=1)
+        if stretch is not None:   # the part along a stretched state, up to its half-length
+            along = np.abs(np.sum(gap * stretch[0], axis=1))
+            c = np.minimum(stretch[1], along)
+            d2 = d2 - c * (2.0 * along - c)
+        logb = -0.5 * d2 / sigma ** 2
+        if stretch is not None:   # spread over its length
+            logb = logb - np.log1p(stretch[1] * (2.0 / (math.sqrt(2.0 * math.pi) * sigma)))
         window = (np.arange(n) >= lo) & (np.arange(n) < lo + w)
         if t == 0:
             pm, ps = main.copy(), start.copy()

@@ -67,9 +67,17 @@ class FollowerGroup(GroupArrays, GroupRules):
                             np.concatenate(lengths), np.zeros(width), np.ones(width))
         p = first._params
         stay = np.concatenate([f.forward._stay for f in self.followers])
+        # each member's states stretched as its own (behaviors.mop.stretch), padded as its means
+        tangent = np.zeros((len(bank.means), width))
+        row = 0
+        for f in self.followers:
+            t = f.forward._tangent
+            tangent[row:row + len(t), :t.shape[1]] = t
+            row += len(t)
+        half = np.concatenate([f.forward._half / f.forward._prescale for f in self.followers])
         self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
                                        transitions=first.forward.transitions, floor=p["floor"],
-                                       dims=np.array(dims), stay=stay)
+                                       dims=np.array(dims), stay=stay, stretch=(tangent, half))
         self._owner = np.array(owner, dtype=np.intp)
         bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
         self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
