@@ -67,6 +67,11 @@ REPLAY_PER_SAMPLE = 3
 #: engine's tick has 1 ms (DESIGN). Shared, a tick's catch-up replays take about 1 ms at most
 #: (beside them each performer going on with a kept action follows its live sample, as a second
 #: follower); one performer pausing alone replays at full pace, and the turn goes round them.
+#: Stepped alone, examples/mop.yaml's spare (5-6 templates, size invariance) took 0.7-1.8 ms
+#: of thread CPU a step on a loaded 2-core machine, a replaying tick 4.1-4.9 ms median; in the
+#: engine's compiled pass (:class:`GroupSpare`) 0.13 ms, the tick 1.4 ms (0.7-0.8 ms the
+#: others). Fewer steps lose short pauses: 1 a sample, a zigzag paused 1 s at 70% drove 0.18
+#: of its second half (0.79 at 3), a lifted one 0 (0.91); 2 a sample, the lifted one 0.85.
 REPLAY_BUDGET = 6
 
 
@@ -91,11 +96,31 @@ def share_replay(templates: list[int], turn: int) -> list[int]:
     return steps
 
 
+class GroupSpare:
+    """A spare follower stepped as the only member of a follower group (the engine's compiled
+    pass): its states equal the follower's own (80 of 80 samples of examples/mop.yaml's), a
+    step 0.15 ms of thread CPU against 1.06 ms stepped alone (ActionFollower.step's rules in
+    Python), so a replaying tick's 3 steps fit the engine's 1 ms."""
+
+    def __init__(self, group: Any) -> None:
+        self.group = group
+
+    def step(self, x: np.ndarray) -> object:
+        """One sample ``x``: the follower's state after it."""
+        return self.group.step([x])[0]
+
+    def reset(self) -> None:
+        """Start afresh."""
+        self.group.reset_member(0)
+
+
 class Resume:
     """One performer's paused action (see the module docstring). ``rate_hz``: samples per
-    second of the engine."""
+    second of the engine; ``make_group`` (optional): the engine's follower group maker, to
+    step the spare in (:class:`GroupSpare`)."""
 
-    def __init__(self, rate_hz: float) -> None:
+    def __init__(self, rate_hz: float, make_group: Any = None) -> None:
+        self._make_group = make_group
         self._pause = int(round(PAUSE_S * rate_hz))
         self._most = int(round(GESTURE_S * rate_hz))
         self._settle = int(round(SETTLE_S * rate_hz))
@@ -165,7 +190,10 @@ class Resume:
         still samples in the replay, the stillness made a circle or zigzag lifted at 30%
         invalid: 0-5% of their second half driven)."""
         if self._source is not follower:   # a rebuilt follower: a new spare
-            self._source, self.follower = follower, copy.deepcopy(follower)
+            spare = copy.deepcopy(follower)
+            make = self._make_group
+            self._source = follower
+            self.follower = spare if make is None else GroupSpare(make([spare]))
         cut = min(self._drove, len(self.samples) - max(0, still - 2))
         self.kept, self._mine = origin.copy(), self.samples[:max(cut, 0)]
         self._cut, self.preparing = cut, False

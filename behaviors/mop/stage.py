@@ -341,7 +341,7 @@ class MopStage(DesignerTakes, PartStates):
             # with it (behaviors.mop.resume)
             performer, r = self.performers[key], self._resume.get(key)
             if r is None:
-                self._resume[key] = r = Resume(self.rate_hz)
+                self._resume[key] = r = Resume(self.rate_hz, self.make_group)
             resting = performer.resting and not holding
             n = steps.get(key, 0)   # replay steps of its paused action this sample
             if resting and not self._resting.get(key, False):   # the rest begins
