@@ -334,7 +334,8 @@ def main(args: argparse.Namespace) -> int:
 
     table_of = behave_fidelity.options(args, BehaveArgumentError)
     if table_of is not None:      # --fidelity: (seconds, seed) of its unseen main paths
-        return behave_fidelity.main(args, *table_of, *train(args, None)[:3])
+        return behave_fidelity.main(args, *table_of, *train(args, None)[:3],
+                                     error=BehaveArgumentError)
     behavior, table, _, main_rows = train(args, args.input)
     rows = generate(behavior, main_rows, table)
     write_csv(args.out, OUT_COLUMNS, rows.tolist())

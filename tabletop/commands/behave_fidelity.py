@@ -195,16 +195,16 @@ THRESHOLDS = ("thresholds: facing within 0.1 of the demonstration's; look change
 
 
 def main(args: argparse.Namespace, seconds: float, seed: int, behavior: Behavior,
-         table: Table, source: str) -> int:
+         table: Table, source: str, error: type[InputError] = InputError) -> int:
     """Print the fidelity table of the trained ``behavior`` on its ``table`` (the unseen
-    paths ``seconds`` long, drawn from ``seed``; ``source``: the demonstration's file(s)); 0."""
+    paths ``seconds`` long, drawn from ``seed``; ``source``: the demonstration's file(s)); 0.
+    A table too small for the paths raises ``error`` (the command's argument error)."""
     from behaviors.puppet_master import fidelity
     from tabletop import examples
-    from tabletop.commands.behave import BehaveArgumentError
 
     w, h = table[2] - table[0], table[3] - table[1]
     if min(w, h) < MIN_TABLE_M:
-        raise BehaveArgumentError(
+        raise error(
             f"--fidelity: the table is {w:.3g} x {h:.3g} m; the unseen main paths need "
             f"{MIN_TABLE_M:g} m a side (give --table W,H, the table the character plays on)")
     paths = unseen_paths(seed, seconds, table)

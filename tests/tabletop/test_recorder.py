@@ -371,8 +371,9 @@ def test_a_bad_file_in_a_recording_is_named_as_the_recordings_not_by_a_temporary
     assert cli.main(["replay", str(bad), "--fast", "--no-view"]) == 2
     err = capfd.readouterr().err.strip()
     assert len(err.splitlines()) == 1, err
-    assert err.startswith(f"tabletop replay: error: {bad}: the recording's {key}: line 1: "
-                          "missing column(s)"), err
+    # (named at the recorded config's key, as a corrupt behavior.yaml is)
+    assert err.startswith(f"tabletop replay: error: {bad} (recorded config): engines[0].behavior: "
+                          f"the recording's {key}: line 1: missing column(s)"), err
     assert "tabletop-replay-" not in err
     header["files"][key] = json.loads(lines[0])["files"][key]
     header["calibration"] = {"format": "tabletop-calibration"}
