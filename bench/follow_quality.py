@@ -370,6 +370,17 @@ def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
     return ActionFollower(templates, still_scale=still_scale(dict(templates)))
 
 
+def cli_scale_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
+    """The follower as ``follow --invariance scale`` builds it (features as recorded)."""
+    from tabletop.commands.follow import still_scale
+    return ActionFollower(templates, invariance="scale", still_scale=still_scale(dict(templates)))
+
+
+#: The followers a bench may be asked for by name (``follow_seeds.py --follower=``).
+FOLLOWERS: dict[str, Factory] = {"puck": puck_follower, "cli_default": paper_follower,
+                                 "cli_scale": cli_scale_follower}
+
+
 def main() -> None:
     global SIGMA
     from tabletop.plugins.mop import FOLLOWER

@@ -11,9 +11,13 @@ is a floor, the highest where it is a ceiling) and ``heldout_<figure>_mean`` ove
 
     python bench/follow_seeds.py [--seeds=101,102,...]
         [--sections=sized,holds,sequences,unrelated,after,pauses,shapes]
+        [--follower=puck|cli_default|cli_scale]
 
 ``--seeds`` (whole numbers, default 101-106); ``--sections`` as ``follow_quality``'s (a section
-left out still draws its random numbers, so each seed's figures are those of a full run).
+left out still draws its random numbers, so each seed's figures are those of a full run);
+``--follower``: the follower as a puck's path is followed live (``puck``, the default) or as the
+``follow`` command builds it by default (``cli_default``) or with ``--invariance scale``
+(``cli_scale``).
 Deterministic; all sections on six seeds take about 160 s of CPU (66 s with
 ``--sections=unrelated,sized,holds``).
 """
@@ -36,21 +40,26 @@ from bench.motions import MOCAP_HELD_OUT  # noqa: E402
 SEEDS = tuple(range(fq.HELD_OUT_SEED, fq.HELD_OUT_SEED + 6))
 
 
-def parse(args: list[str]) -> tuple[tuple[int, ...], set[str] | None]:
-    """The seeds and the sections (None: all) of the command line; a wrong one exits with one
-    line naming it (:func:`bench.common.check_flags`, each seed as a number in its range)."""
+def parse(args: list[str]) -> tuple[tuple[int, ...], set[str] | None, str]:
+    """The seeds, the sections (None: all) and the follower's name of the command line; a wrong
+    one exits with one line naming it (:func:`bench.common.check_flags`, each seed as a number in
+    its range)."""
     seeds = next((a.split("=", 1)[1].split(",") for a in args if a.startswith("--seeds=")), None)
     # each seed checked as one number: --seeds=1,x is refused as --seeds=x would be
     split = [a for a in args if not a.startswith("--seeds=")] + [
         f"--seeds={s}" for s in seeds or ()]
-    check_flags("follow_seeds", split, [], {"sections": fq.SECTION_NAMES},
+    check_flags("follow_seeds", split, [], {"sections": fq.SECTION_NAMES,
+                                             "follower": tuple(fq.FOLLOWERS)},
                 {"seeds": (0, 999999)})
+    follower = next((a.split("=", 1)[1] for a in args if a.startswith("--follower=")), "puck")
+    if "," in follower:
+        sys.exit(f"follow_seeds: --follower: expected one name, got {follower!r}")
     bad = next((s for s in seeds or () if not float(s).is_integer()), None)
     if bad is not None:
         sys.exit(f"follow_seeds: --seeds: expected whole numbers, got {bad!r}")
     sections = next((set(a.split("=", 1)[1].split(",")) for a in args
                      if a.startswith("--sections=")), None)
-    return (SEEDS if seeds is None else tuple(int(float(s)) for s in seeds)), sections
+    return (SEEDS if seeds is None else tuple(int(float(s)) for s in seeds)), sections, follower
 
 
 def worst(key: str, values: list[float]) -> float:
@@ -82,8 +91,8 @@ def summary(per_seed: dict[int, dict[str, float]]) -> tuple[dict[str, float | st
 
 
 def main() -> None:
-    seeds, fq.SECTIONS = parse(sys.argv[1:])
-    per_seed = {s: fq.evaluate(fq.puck_follower, s, MOCAP_HELD_OUT) for s in seeds}
+    seeds, fq.SECTIONS, follower = parse(sys.argv[1:])
+    per_seed = {s: fq.evaluate(fq.FOLLOWERS[follower], s, MOCAP_HELD_OUT) for s in seeds}
     keys = [k for k in fq.TARGETS if any(k in fig for fig in per_seed.values())]
     width = max(len(k) for k in keys + ["held-out figure"]) + 1
     print(f"{'held-out figure':{width}s}" + "".join(f"{s:>10d}" for s in seeds)
@@ -93,7 +102,8 @@ def main() -> None:
         print(f"{key:{width}s}" + "".join(f"{v:10.4g}" for v in values)
               + f"{worst(key, values):10.4g}{np.mean(values):10.4g}  "
               + " ".join(map(str, fq.TARGETS[key])))
-    emit("follow_seeds", *summary(per_seed))
+    figures, budgets = summary(per_seed)
+    emit("follow_seeds", {"follower": follower, **figures}, budgets)
 
 
 if __name__ == "__main__":

@@ -66,10 +66,11 @@ def test_follow_quality_refuses_a_seed_that_is_no_whole_number(monkeypatch):
     assert refused.code == "follow_quality: --seed: expected a whole number, got '1.5'"
 
 
-def test_follow_seeds_takes_whole_seeds_and_the_sections_and_refuses_the_rest():
+def test_follow_seeds_takes_whole_seeds_the_sections_a_follower_and_refuses_the_rest():
     from bench.follow_seeds import SEEDS, parse
-    assert parse([]) == (SEEDS, None) and SEEDS == (101, 102, 103, 104, 105, 106)
-    assert parse(["--seeds=7,8", "--sections=sized,unrelated"]) == ((7, 8), {"sized", "unrelated"})
+    assert parse([]) == (SEEDS, None, "puck") and SEEDS == (101, 102, 103, 104, 105, 106)
+    assert parse(["--seeds=7,8", "--sections=sized,unrelated", "--follower=cli_scale"]) == (
+        (7, 8), {"sized", "unrelated"}, "cli_scale")
     for args, said in ((["--seeds=7,x"], "follow_seeds: --seeds: expected a number in 0..999999, "
                         "got 'x'"),
                        (["--seeds=1.5"],
@@ -77,7 +78,10 @@ def test_follow_seeds_takes_whole_seeds_and_the_sections_and_refuses_the_rest():
                        (["--seeds="], "follow_seeds: --seeds: expected a number in 0..999999, "
                         "got ''"),
                        (["--sections=sized,sizes"], "follow_seeds: --sections: unknown 'sizes'"),
-                       (["--seed=7"], "follow_seeds: unknown argument '--seed=7'")):
+                       (["--seed=7"], "follow_seeds: unknown argument '--seed=7'"),
+                       (["--follower=paper"], "follow_seeds: --follower: unknown 'paper'"),
+                       (["--follower=puck,cli_scale"],
+                        "follow_seeds: --follower: expected one name, got 'puck,cli_scale'")):
         with pytest.raises(SystemExit) as refused:
             parse(args)
         assert str(refused.value.code).splitlines()[0] == said
