@@ -241,31 +241,37 @@ def _figures(name: str, demo: np.ndarray, paths: Sequence[np.ndarray]) -> tuple[
             float(np.mean([r["gen_distance_mean_m"] for r in rows])))
 
 
+#: The two-puck references of :func:`sequential_comparison`: the designer's own hand, and its
+#: hand SECOND_HAND seeds on (the range a hand alone moves the figures by).
+REFERENCES = {"two_puck": 0, "second_hand": SECOND_HAND}
+
+
 @functools.cache
-def two_puck_figures(name: str, seeds: tuple[int, ...], seconds: float
-                     ) -> dict[str, tuple[int, float]]:
-    """The two-puck references of sequential_comparison (:func:`_figures` on
-    :func:`sequential_paths`): {"two_puck": the designer's own hand, "second_hand": its
-    SECOND_HAND}, both at the same reaction time on the reactor's camera frames (half a frame
-    after the main take's), so that the sequential take differs from "two_puck" only by being
-    paired from two takes (the playback seen a frame late)."""
+def two_puck_figures(name: str, seeds: tuple[int, ...], seconds: float,
+                     key: str = "two_puck") -> tuple[int, float]:
+    """A two-puck reference of sequential_comparison (:func:`_figures` on
+    :func:`sequential_paths`): ``key`` "two_puck", the designer's own hand, or "second_hand",
+    its SECOND_HAND, both at the same reaction time on the reactor's camera frames (half a
+    frame after the main take's), so that the sequential take differs from "two_puck" only by
+    being paired from two takes (the playback seen a frame late)."""
     seed = designers.SEEDS[name]
     on_phase = designers.path_at(*designers.sequential_frames(name, seed, table=TABLE))
-    paths = sequential_paths(seeds, seconds)
-    return {key: _figures(name, designers.demonstrate(name, hand, rate_hz=60.0, table=TABLE,
-                                                      main=on_phase.copy()), paths)
-            for key, hand in (("two_puck", seed), ("second_hand", seed + SECOND_HAND))}
+    return _figures(name, designers.demonstrate(name, seed + REFERENCES[key], rate_hz=60.0,
+                                                table=TABLE, main=on_phase.copy()),
+                    sequential_paths(seeds, seconds))
 
 
 def sequential_comparison(name: str, seeds: tuple[int, ...], seconds: float = 40.0,
-                          pair: Callable[[np.ndarray, np.ndarray], np.ndarray] = pair_takes
+                          pair: Callable[[np.ndarray, np.ndarray], np.ndarray] = pair_takes,
+                          references: tuple[str, ...] = tuple(REFERENCES)
                           ) -> dict[str, tuple[int, float]]:
     """Sequential training of ``name`` (designers.sequential_takes, paired by ``pair``) beside
-    :func:`two_puck_figures`: {"sequential", "two_puck", "second_hand": (thresholds missed on
-    the open main paths of ``seeds``, mean generated distance to the main (m))}."""
+    :func:`two_puck_figures`: {"sequential", and each of ``references`` ("two_puck",
+    "second_hand"): (thresholds missed on the open main paths of ``seeds``, mean generated
+    distance to the main (m))}. :func:`sequential_misses` reads "two_puck" alone."""
     return {"sequential": _figures(name, pair(*_sequential_takes(name)),
                                    sequential_paths(seeds, seconds)),
-            **two_puck_figures(name, seeds, seconds)}
+            **{key: two_puck_figures(name, seeds, seconds, key) for key in references}}
 
 
 # (misses, m) a character's sequential behaviour may differ from its two-puck demonstration by

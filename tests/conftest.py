@@ -44,7 +44,7 @@ LONG_FILES = {
     "tests/kiosk/test_supervisor_stop.py": 7,
     "tests/tabletop/test_cli.py": 11, "tests/mop/test_refusal.py": 10,
     "tests/puppet_master/test_pm_fidelity.py": 8, "tests/tabletop/test_replay_exact.py": 8,
-    "tests/mop/test_resume.py": 7.5, "tests/kiosk/test_soak.py": 7.5,
+    "tests/mop/test_resume.py": 7.5, "tests/kiosk/test_soak.py": 5,
     "tests/kiosk/test_bad_action_start.py": 7.3, "tests/mop/test_spotting.py": 7.2,
     "tests/kiosk/test_live_config.py": 6.6, "tests/puppet_master/test_pm_character_reading.py": 5.9,
     "tests/mop/test_live.py": 5.4, "tests/mop/test_follower.py": 5.4,

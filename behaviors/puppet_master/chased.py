@@ -291,7 +291,7 @@ class ChasingHand:
         else:
             v_des = (self.wander[i, 1:3] - self.wander[i - 1, 1:3]) / dt
         self.v = self.v + _limit(v_des - self.v, 1.2 * dt)
-        q = np.clip(p + self.v * dt, 0.05, (w - 0.05, h - 0.05))
+        q = np.minimum(np.maximum(p + self.v * dt, 0.05), (w - 0.05, h - 0.05))   # as np.clip
         if float(np.hypot(*self.v)) > 0.04:
             look = _turn_toward(look, math.atan2(self.v[1], self.v[0]), 6.0 * dt)
             if self.mode not in ("approach", "herd"):

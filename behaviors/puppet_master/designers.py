@@ -84,7 +84,7 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
             v_des = np.array([c * u[0] - s_ * u[1], s_ * u[0] + c * u[1]])
             v_des *= speed * min(1.0, d / 0.1)
         v = v + _limit(v_des - v, 0.9 * dt)
-        p = np.clip(p + v * dt, 0.0, (w, h))
+        p = np.minimum(np.maximum(p + v * dt, 0.0), (w, h))      # np.clip's values, faster
         if float(np.hypot(*v)) > 0.04:
             heading = math.atan2(v[1], v[0])
             step = min(6.0 * dt, abs(wrap_angle(heading - look)) * dt / 0.15)   # lag, rate limit
@@ -276,7 +276,7 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float | None
                     (p[k] >= size - edge - 0.01 and v_des[k] > 0):
                 v_des[k] = 0.0
         v = v + _limit(v_des - v, accel * dt)
-        p = np.clip(p + v * dt, edge, (w - edge, h - edge))
+        p = np.minimum(np.maximum(p + v * dt, edge), (w - edge, h - edge))   # np.clip's values
         gap = p - mp[i]
         d = float(np.hypot(*gap))
         if d < CONTACT:                       # two pucks cannot overlap: pushed aside

@@ -58,7 +58,7 @@ def loops_and_spins(seed: int, seconds: float = 40.0, rate_hz: float = 40.0,
             to = goal - p
             v_des = _unit(to) * speed * min(1.0, float(np.hypot(*to)) / 0.1)
         v = v + _limit(v_des - v, 1.5 * dt)
-        p = np.clip(p + v * dt, 0.05, (w - 0.05, h - 0.05))
+        p = np.minimum(np.maximum(p + v * dt, 0.05), (w - 0.05, h - 0.05))   # as np.clip
         if float(np.hypot(*v)) > 0.04:
             look = _turn_toward(look, math.atan2(v[1], v[0]), 8.0 * dt)
         out[i] = (i * dt, p[0], p[1], look)
@@ -172,7 +172,7 @@ class Pursuer:
             self.look = wrap_angle(self.look + self.spin * dt)
         self.v = self.v + _limit(v_des - self.v, 1.2 * dt)
         w, h = self.table
-        self.p = np.clip(self.p + self.v * dt, 0.05, (w - 0.05, h - 0.05))
+        self.p = np.minimum(np.maximum(self.p + self.v * dt, 0.05), (w - 0.05, h - 0.05))
         if float(np.hypot(*self.v)) > 0.04:
             self.look = _turn_toward(self.look, math.atan2(self.v[1], self.v[0]), 6.0 * dt)
             if self.mode != "chase":
