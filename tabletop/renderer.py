@@ -19,7 +19,8 @@ from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # n
 from tabletop.drawing import panel_room, see_through  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
-from tabletop.drawing.light import HINT_SHOWN, AddedLight, as_points, hinted_pose  # noqa: E402
+from tabletop.drawing.light import (HINT_SHOWN, AddedLight, as_points, hint_label,  # noqa: E402
+                                    hint_rim, hinted_pose)
 from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
@@ -107,6 +108,7 @@ class Renderer:
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self._light = AddedLight()   # where hinted poses are drawn, added as light
+        self._hint_labels: list[tuple[pygame.Surface, pygame.Rect]] = []   # ... their names
         self.lives = Lives()
         self.traces = Traces()
         self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
@@ -168,12 +170,15 @@ class Renderer:
         self._keep_clear, self._studio_marks, self._drawn_chars = [], [], []
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
+        self._hint_labels = []
         for p, place in zip(prs, self._places(prs, frame).tolist()):
             r = self._draw_presence(target, p, frame, place)
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
                 self._drawn_chars.append((r, p.state))
+        if self._hint_labels:
+            target.blits(self._hint_labels, doreturn=False)
         shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
         # what went under a puck stays under it: its top (the marker, the hand) is not lit
         pucks.under_pucks(target, bg, shown, beyond, self.map, self.puck_radius,
@@ -292,10 +297,15 @@ class Renderer:
             if pr.hint > HINT_SHOWN and pr.hint_points is not None \
                     and len(pr.hint_points) == len(c.points):
                 # early feedback: the suspected action's pose, a faint light of the
-                # character's own (lively) colour, casting no glow
+                # character's own (lively) colour, casting no glow, outlined and named
                 ghost = hinted_pose(pose, c.color, pr.hint)
                 hinted = self._light.add(target, lambda s: self._draw_points(
-                    s, c, ghost, pr.hint_points))
+                    s, c, ghost, pr.hint_points), hint_rim(target.get_size()))
+                if hinted is not None and pr.hint_action:
+                    label = hint_label(target.get_size(), pr.hint_action, hinted, c.color,
+                                       pr.hint, self.map.reading())
+                    self._hint_labels.append(label)     # drawn over every character
+                    hinted = P.union([hinted, label[1]])
                 hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)
             return P.union([hinted, self._draw_points(target, c, pose, c.points, hint)])
         if c.name in self._sprites:
