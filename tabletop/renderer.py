@@ -109,6 +109,7 @@ class Renderer:
         self._static: pygame.Surface | None = None
         self._light = AddedLight()   # where hinted poses are drawn, added as light
         self._hint_labels: list[tuple[pygame.Surface, pygame.Rect]] = []   # ... their names
+        self._table_px: tuple | None = None   # (map, the table's bounds px): _table_rect
         self.lives = Lives()
         self.traces = Traces()
         self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
@@ -130,6 +131,15 @@ class Renderer:
     def _corners(self) -> np.ndarray:
         w, h = self.table
         return self.map.points(np.array([(0, 0), (w, 0), (w, h), (0, h)]))
+
+    def _table_rect(self) -> pygame.Rect:
+        """The table's bounds in the window (px)."""
+        if self._table_px is None or self._table_px[0] is not self.map:
+            c = self._corners()
+            lo, hi = np.floor(c.min(axis=0)), np.ceil(c.max(axis=0))
+            self._table_px = (self.map, pygame.Rect(int(lo[0]), int(lo[1]),
+                                                    int(hi[0] - lo[0]), int(hi[1] - lo[1])))
+        return self._table_px[1]
 
     def prepare(self, target: pygame.Surface) -> None:
         """Make what the first frame drawn onto ``target`` would make: the static table (its
@@ -308,7 +318,7 @@ class Renderer:
                     s, c, ghost, pr.hint_points), hint_rim(target.get_size()))
                 if hinted is not None and pr.hint_action:
                     label = hint_label(target.get_size(), pr.hint_action, hinted, c.color,
-                                       pr.hint, self.map.reading())
+                                       pr.hint, self.map.reading(), self._table_rect())
                     self._hint_labels.append(label)     # drawn over every character
                     hinted = P.union([hinted, label[1]])
                 hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)

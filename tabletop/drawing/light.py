@@ -101,12 +101,15 @@ class AddedLight:
 
 
 def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color: Color,
-               strength: float, reading: Reading) -> tuple[pygame.Surface, pygame.Rect]:
+               strength: float, reading: Reading, table: pygame.Rect
+               ) -> tuple[pygame.Surface, pygame.Rect]:
     """The suspected ``action``'s name with a question mark ("figure eight?") above a hinted
     pose drawn in ``around`` (px), for the reader at the table's near edge (``reading``), in
     the hint's ``color`` lightened, :data:`LABEL_GAIN` times as strong as the hint
-    (``strength`` 0..1, at most whole), inside the ``window`` (W, H px): its image and where
-    to blit it (over every character: drawn with the figure, the next one covered it)."""
+    (``strength`` 0..1, at most whole), on the ``table`` (its bounds in the window, px: below
+    the pose where above would leave it; the bird's "wave?" in the MOP example stood beyond
+    the table's far edge, 1280x720), in a ``window`` (W, H px): its image and where to blit it
+    (over every character: drawn with the figure, the next one covered it)."""
     W, H = window
     px = max(11, round(HINT_LABEL_PX * min(W / 1280, H / 720)))
     line = action.replace("_", " ") + "?"
@@ -114,6 +117,9 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
     img = screens._line(line, px, ink, reading)
     up = (around.h if reading.up[1] else around.w) / 2 + 4
     at = reading.at(img.get_size(), reading.offset(around.center, up=up), (0.5, 1.0))
-    at = at.clamp(pygame.Rect(0, 0, W, H))
+    if not table.contains(at):
+        below = reading.at(img.get_size(), reading.offset(around.center, up=-up), (0.5, 0.0))
+        at = below if table.contains(below) else at
+    at = at.clamp(table if table.w >= at.w and table.h >= at.h else pygame.Rect(0, 0, W, H))
     img.set_alpha(int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0))))
     return img, at

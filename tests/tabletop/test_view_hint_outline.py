@@ -86,3 +86,24 @@ def test_the_label_fades_with_its_hint_and_is_gone_with_it():
         lit.append(int((rgb(s)[ys.start - 40:ys.start, xs].astype(int) - bare).sum()))
     assert lit[2] < lit[29]              # fades in with the hint (0.15 s)
     assert lit[59] < 0.05 * lit[29]      # and goes with it
+
+
+def test_a_hint_at_the_tables_far_edge_is_named_on_the_table():
+    """The MOP example's bird, hinted with its wings up near the table's far edge, had its
+    "wave?" above it beyond the table (1280x720: at y = 11 px, the table's top at 24): named
+    below the pose instead, every lit pixel of the name on the table."""
+    far = np.array([[0.45, 0.77], [0.6, 0.77], [0.75, 0.77]])
+
+    def light(action: str) -> tuple[Renderer, np.ndarray]:
+        c = CharacterState("c", 0.6, 0.3, 0.0, kind="creature", size=0.3, points=BODY,
+                           bones=BONES, color=(90, 220, 120), valid=False,
+                           hints=((action, 1.0, 0.4),), hint_points=far)
+        r, _, lit = drawn(c)
+        return r, lit
+    r, named = light("wave")
+    _, unnamed = light("")             # (a hint without a name: none drawn)
+    name = (named - unnamed) > 100     # the name's pixels
+    table = r._table_rect()
+    on = name[table.top:table.bottom, table.left:table.right]
+    # measured before: 148 of the name's 148 px beyond the table's far edge; after 0 of 143
+    assert name.sum() > 50 and on.sum() == name.sum(), (name.sum(), on.sum())
