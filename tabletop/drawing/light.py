@@ -22,7 +22,7 @@ HINT_SHOWN = 0.03        # a hinted pose is drawn while its strength (0..1) is a
 # window's smaller side), its inside at HINT_FILL of its light. Filled, a hint looked like a
 # second, shadow character beside the real one (the MOP example's dancer and mime, 1280x720).
 HINT_RIM, HINT_FILL = 2, 0.2
-HINT_LABEL_PX = 16       # the action's name above a hinted pose (px at 1280x720) ...
+HINT_LABEL_PX = 16       # the action's name above a hinted pose (px at 720 deep) ...
 LABEL_GAIN = 2.0         # ... whole from a hint's strength 0.5 (thin words at a hint's
 # opacity: "figure eight?" at strength 0.3 was not read in a window run of the MOP example)
 
@@ -111,7 +111,7 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
     the table's far edge, 1280x720), in a ``window`` (W, H px): its image and where to blit it
     (over every character: drawn with the figure, the next one covered it)."""
     W, H = window
-    px = max(11, round(HINT_LABEL_PX * min(W / 1280, H / 720)))
+    px = max(13, round(HINT_LABEL_PX * min(W, H) / 720))   # (11 px at 800x600 was not read)
     line = action.replace("_", " ") + "?"
     ink = lighten(vivid(tuple(color), 1.0, 0.8, 0.8), 0.3)
     img = screens._line(line, px, ink, reading)
