@@ -412,7 +412,8 @@ class Renderer:
         # and the status line at the bottom, every window corner lies over some words),
         # unless they are under a third of the window (a panel of a few lines says too little:
         # it lies over the words, its text kept readable)
-        bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
+        bands = ([panel_room.free_bands(must, x, x + width, 8, H - 8)
+                  for x in (8, W - width - 8)]
                  if must and not reading.quarter else [])
         tallest = max((b - a for side in bands for a, b in side), default=deep - 16)
         key, cap = tuple(lines), (tallest if 3 * tallest >= deep else deep - 16)

@@ -443,19 +443,3 @@ class InvitationPlace:
         if self.at >= len(spots) or over(self.at):
             self.at = min(range(len(spots)), key=lambda i: (over(i), i))
         return spots[self.at]
-
-
-def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,
-               gap: int = 4) -> list[tuple[int, int]]:
-    """The rows (top, bottom pixel pairs, top to bottom) between ``top`` and ``bottom`` that
-    none of ``keep`` lying across the columns ``x0``..``x1`` takes, ``gap`` pixels kept from
-    each: where a panel that column-wide may stand without hiding them."""
-    cuts = sorted((r.top - gap, r.bottom + gap) for r in keep if r.right > x0 and r.left < x1)
-    bands, y = [], top
-    for a, b in cuts:
-        if a > y:
-            bands.append((y, a))
-        y = max(y, b)
-    if bottom > y:
-        bands.append((y, bottom))
-    return bands
