@@ -121,5 +121,8 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
         below = reading.at(img.get_size(), reading.offset(around.center, up=-up), (0.5, 0.0))
         at = below if table.contains(below) else at
     at = at.clamp(table if table.w >= at.w and table.h >= at.h else pygame.Rect(0, 0, W, H))
+    # its own copy: blitted after every character, two hints of one name and colour sharing
+    # the kept render would both show the alpha set last
+    img = img.copy()
     img.set_alpha(int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0))))
     return img, at

@@ -107,3 +107,30 @@ def test_a_hint_at_the_tables_far_edge_is_named_on_the_table():
     on = name[table.top:table.bottom, table.left:table.right]
     # measured before: 148 of the name's 148 px beyond the table's far edge; after 0 of 143
     assert name.sum() > 50 and on.sum() == name.sum(), (name.sum(), on.sum())
+
+
+def test_two_hints_of_one_name_and_colour_each_keep_their_strength():
+    """Two characters of one colour suspected of one action, at probabilities 1.0 and 0.1:
+    each name as strong as its own hint (they shared one render, both at the alpha set last)."""
+    def pair(k: int) -> tuple[CharacterState, ...]:
+        out = []
+        for name, y, p in (("a", 0.2, 1.0), ("b", 0.55, 0.1)):
+            pts = np.array([[0.2, y], [0.35, y], [0.5, y]])
+            out.append(CharacterState(name, 0.35, y, 0.0, kind="creature", size=0.3,
+                                      points=pts + (0.45, 0.0), bones=BONES,
+                                      color=(90, 220, 120), valid=False,
+                                      hints=(("wave", p, 0.4),), hint_points=pts))
+        return tuple(out)
+    r = Renderer(TABLE, SIZE)
+    s = pygame.Surface(SIZE)
+    for k in range(45):
+        r.draw(s, Frame(seq=k, t=1.0 + k / 30, characters=pair(k)))
+    light = rgb(s).astype(int).sum(axis=2) - rgb(r._background(pygame.Surface(SIZE))).astype(
+        int).sum(axis=2)
+    lit = []
+    for y in (0.2, 0.55):
+        ys, xs = box(r, np.array([[0.2, y], [0.5, y]]), 30)
+        lit.append(int(light[ys.start - 40:ys.start, xs].clip(0).sum()))
+    # measured: the names' light 8,788 and 8,888 before (one alpha for both), 44,184 and
+    # 8,888 after (alphas 255 and 51)
+    assert lit[0] > 3 * lit[1] > 0, lit
