@@ -19,7 +19,8 @@ from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # n
 from tabletop.drawing import panel_room, see_through  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
-from tabletop.drawing.light import HINT_SHOWN, AddedLight, as_points, hinted_pose  # noqa: E402
+from tabletop.drawing.light import (HINT_SHOWN, AddedLight, as_points, hint_label,  # noqa: E402
+                                    hint_rim, hinted_pose)
 from tabletop.drawing.characters import Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
@@ -107,6 +108,8 @@ class Renderer:
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self._light = AddedLight()   # where hinted poses are drawn, added as light
+        self._hint_labels: list[tuple[pygame.Surface, pygame.Rect]] = []   # ... their names
+        self._table_px: tuple | None = None   # (map, the table's bounds px): _table_rect
         self.lives = Lives()
         self.traces = Traces()
         self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
@@ -128,6 +131,20 @@ class Renderer:
     def _corners(self) -> np.ndarray:
         w, h = self.table
         return self.map.points(np.array([(0, 0), (w, 0), (w, h), (0, h)]))
+
+    def _table_rect(self) -> pygame.Rect:
+        """The table's bounds in the window (px)."""
+        if self._table_px is None or self._table_px[0] is not self.map:
+            c = self._corners()
+            lo, hi = np.floor(c.min(axis=0)), np.ceil(c.max(axis=0))
+            self._table_px = (self.map, pygame.Rect(int(lo[0]), int(lo[1]),
+                                                    int(hi[0] - lo[0]), int(hi[1] - lo[1])))
+        return self._table_px[1]
+
+    def prepare(self, target: pygame.Surface) -> None:
+        """Make what the first frame drawn onto ``target`` would make: the static table (its
+        soft light a 480 px glow: 0.15-0.39 s here, the run's first frame that much late)."""
+        self._background(target)
 
     def _background(self, target: pygame.Surface) -> pygame.Surface:
         if self._static is None or self._static.get_size() != target.get_size():
@@ -168,12 +185,15 @@ class Renderer:
         self._keep_clear, self._studio_marks, self._drawn_chars = [], [], []
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
+        self._hint_labels = []
         for p, place in zip(prs, self._places(prs, frame).tolist()):
             r = self._draw_presence(target, p, frame, place)
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
                 self._drawn_chars.append((r, p.state))
+        if self._hint_labels:
+            target.blits(self._hint_labels, doreturn=False)
         shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
         # what went under a puck stays under it: its top (the marker, the hand) is not lit
         pucks.under_pucks(target, bg, shown, beyond, self.map, self.puck_radius,
@@ -292,10 +312,15 @@ class Renderer:
             if pr.hint > HINT_SHOWN and pr.hint_points is not None \
                     and len(pr.hint_points) == len(c.points):
                 # early feedback: the suspected action's pose, a faint light of the
-                # character's own (lively) colour, casting no glow
+                # character's own (lively) colour, casting no glow, outlined and named
                 ghost = hinted_pose(pose, c.color, pr.hint)
                 hinted = self._light.add(target, lambda s: self._draw_points(
-                    s, c, ghost, pr.hint_points))
+                    s, c, ghost, pr.hint_points), hint_rim(target.get_size()))
+                if hinted is not None and pr.hint_action:
+                    label = hint_label(target.get_size(), pr.hint_action, hinted, c.color,
+                                       pr.hint, self.map.reading(), self._table_rect())
+                    self._hint_labels.append(label)     # drawn over every character
+                    hinted = P.union([hinted, label[1]])
                 hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)
             return P.union([hinted, self._draw_points(target, c, pose, c.points, hint)])
         if c.name in self._sprites:
@@ -387,7 +412,8 @@ class Renderer:
         # and the status line at the bottom, every window corner lies over some words),
         # unless they are under a third of the window (a panel of a few lines says too little:
         # it lies over the words, its text kept readable)
-        bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
+        bands = ([panel_room.free_bands(must, x, x + width, 8, H - 8)
+                  for x in (8, W - width - 8)]
                  if must and not reading.quarter else [])
         tallest = max((b - a for side in bands for a, b in side), default=deep - 16)
         key, cap = tuple(lines), (tallest if 3 * tallest >= deep else deep - 16)

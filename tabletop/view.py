@@ -225,6 +225,9 @@ class ProjectorView:
         self.renderer = Renderer(table, given, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.renderer.incremental = True   # present only what changed (bench/view.py)
+        # the table made before the loop starts, not in its first tick (drawn 0.28 s late in
+        # config.yaml headless, 0.50 s in examples/mop.yaml: the table's 480 px glow)
+        self.renderer.prepare(self.screen)
         self.renderer.invitation = invitation
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None   # the panel's lines: head, characters, notes

@@ -106,6 +106,7 @@ class Presence:
     phase: float = 0.0          # stepping cycle, radians: advances with the distance travelled
     hint: float = 0.0           # strength 0..1 of the hinted pose shown faintly (early feedback)
     hint_points: object = None  # the last hinted pose (N x 2, table metres), kept while it fades
+    hint_action: str = ""       # ... and its action's name (its label)
     glide: tuple[float, float, float] | None = None   # (t, dx, dy m): a jump being glided
     apart: tuple[float, float] = (0.0, 0.0)   # (dx, dy m): its place in a row of waiting ones
 
@@ -190,6 +191,7 @@ class Lives:
                     p.hint += (1.0 - math.exp(-dt / tau)) * (level - p.hint)
             if c.hint_points is not None and not c.valid:
                 p.hint_points = c.hint_points
+                p.hint_action = c.hints[0][0] if c.hints else p.hint_action
             p.state, p.t = c, t
             out.append(p)
         rows(t, out)

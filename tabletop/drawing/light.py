@@ -1,6 +1,7 @@
 """A hinted pose (MOP early feedback) drawn as the faint light it is: the suspected action's
 pose in the character's own lively colour, casting no glow, drawn on black and added onto the
-view, so it only brightens what lies under it."""
+view, so it only brightens what lies under it; drawn as an outline, its inside fainter still,
+with the action's name above it, so that it reads as a hint, not as a second character."""
 
 from __future__ import annotations
 
@@ -10,11 +11,20 @@ from typing import Callable
 import numpy as np
 import pygame
 
+from tabletop.drawing import screens
 from tabletop.drawing.characters import Pose
-from tabletop.drawing.palette import Color, vivid
+from tabletop.drawing.palette import Color, lighten, vivid
+from tabletop.drawing.reading import Reading
 
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 HINT_SHOWN = 0.03        # a hinted pose is drawn while its strength (0..1) is above this
+# A hinted pose is drawn as its outline, HINT_RIM px wide at 1280x720 (in proportion to the
+# window's smaller side), its inside at HINT_FILL of its light. Filled, a hint looked like a
+# second, shadow character beside the real one (the MOP example's dancer and mime, 1280x720).
+HINT_RIM, HINT_FILL = 2, 0.2
+HINT_LABEL_PX = 16       # the action's name above a hinted pose (px at 720 deep) ...
+LABEL_GAIN = 2.0         # ... whole from a hint's strength 0.5 (thin words at a hint's
+# opacity: "figure eight?" at strength 0.3 was not read in a window run of the MOP example)
 
 
 def hinted_pose(pose: Pose, color: Color, hint: float) -> Pose:
@@ -27,6 +37,12 @@ def hinted_pose(pose: Pose, color: Color, hint: float) -> Pose:
     acting (luminance 2.0 to 2.8 times lower at probability 1, 1.6 before)."""
     return dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * hint, light=0.0,
                                color=vivid(tuple(color), 1.0, 0.8, 0.8), ground=(0, 0, 0))
+
+
+def hint_rim(window: tuple[int, int]) -> int:
+    """The outline's width (px) of a hinted pose in a ``window`` (W, H): :data:`HINT_RIM` at
+    720 px on its smaller side, in proportion, at least 2."""
+    return max(2, round(HINT_RIM * min(window) / 720))
 
 
 def as_points(hint: tuple[Pose, np.ndarray] | None) -> tuple[Pose, np.ndarray] | None:
@@ -44,11 +60,14 @@ class AddedLight:
 
     def __init__(self) -> None:
         self._scratch: pygame.Surface | None = None
+        self._eroded: pygame.Surface | None = None    # the outline's work (:meth:`_outline`)
 
     def add(self, target: pygame.Surface,
-            paint: Callable[[pygame.Surface], pygame.Rect | None]) -> pygame.Rect | None:
+            paint: Callable[[pygame.Surface], pygame.Rect | None],
+            rim: int = 0) -> pygame.Rect | None:
         """What ``paint`` draws on black (a pose faded toward black, ``Pose.ground``), added
-        onto ``target``; returns the rectangle it touched there."""
+        onto ``target``; ``rim`` > 0: only its outline, ``rim`` px wide, whole, and its inside
+        at :data:`HINT_FILL` (:meth:`_outline`). Returns the rectangle it touched there."""
         scratch = self._scratch
         if scratch is None or scratch.get_size() != target.get_size():
             scratch = self._scratch = pygame.Surface(target.get_size(), 0, target)
@@ -57,8 +76,53 @@ class AddedLight:
         if r is None:
             return None
         r = r.clip(target.get_rect())
+        if rim > 0:
+            r = r.inflate(2 * rim + 2, 2 * rim + 2).clip(target.get_rect())
+            self._outline(scratch, r, rim)
         target.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
         # black again (multiplied by black: a sixth of a plain fill's time here, 0.03 ms for
         # a 300 x 220 px figure)
         scratch.fill((0, 0, 0), r, pygame.BLEND_RGB_MULT)
         return r
+
+    def _outline(self, scratch: pygame.Surface, r: pygame.Rect, rim: int) -> None:
+        """What is drawn in ``r`` of ``scratch`` cut to its outline: less :data:`HINT_FILL`'s
+        remainder of itself eroded ``rim`` px (the least of itself moved ``rim`` px four
+        ways), so its edges keep their light and its inside a fifth of it."""
+        eroded = self._eroded
+        if eroded is None or eroded.get_size() != scratch.get_size():
+            eroded = self._eroded = pygame.Surface(scratch.get_size(), 0, scratch)
+        eroded.fill((255, 255, 255), r)    # (then the least: a fifth of a plain copy's time)
+        for dx, dy in ((rim, 0), (-rim, 0), (0, rim), (0, -rim)):
+            eroded.blit(scratch, r.move(dx, dy), r, pygame.BLEND_RGB_MIN)
+        k = int(round(255 * (1.0 - HINT_FILL)))
+        eroded.fill((k, k, k), r, pygame.BLEND_RGB_MULT)
+        scratch.blit(eroded, r, r, pygame.BLEND_RGB_SUB)
+
+
+def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color: Color,
+               strength: float, reading: Reading, table: pygame.Rect
+               ) -> tuple[pygame.Surface, pygame.Rect]:
+    """The suspected ``action``'s name with a question mark ("figure eight?") above a hinted
+    pose drawn in ``around`` (px), for the reader at the table's near edge (``reading``), in
+    the hint's ``color`` lightened, :data:`LABEL_GAIN` times as strong as the hint
+    (``strength`` 0..1, at most whole), on the ``table`` (its bounds in the window, px: below
+    the pose where above would leave it; the bird's "wave?" in the MOP example stood beyond
+    the table's far edge, 1280x720), in a ``window`` (W, H px): its image and where to blit it
+    (over every character: drawn with the figure, the next one covered it)."""
+    W, H = window
+    px = max(13, round(HINT_LABEL_PX * min(W, H) / 720))   # (11 px at 800x600 was not read)
+    line = action.replace("_", " ") + "?"
+    ink = lighten(vivid(tuple(color), 1.0, 0.8, 0.8), 0.3)
+    img = screens._line(line, px, ink, reading)
+    up = (around.h if reading.up[1] else around.w) / 2 + 4
+    at = reading.at(img.get_size(), reading.offset(around.center, up=up), (0.5, 1.0))
+    if not table.contains(at):
+        below = reading.at(img.get_size(), reading.offset(around.center, up=-up), (0.5, 0.0))
+        at = below if table.contains(below) else at
+    at = at.clamp(table if table.w >= at.w and table.h >= at.h else pygame.Rect(0, 0, W, H))
+    # its own copy: blitted after every character, two hints of one name and colour sharing
+    # the kept render would both show the alpha set last
+    img = img.copy()
+    img.set_alpha(int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0))))
+    return img, at

@@ -19,6 +19,22 @@ MUST_WEIGHT = 100        # a pixel of the studio's words weighs 100 of a charact
 OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 
 
+def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,
+               gap: int = 4) -> list[tuple[int, int]]:
+    """The rows (top, bottom pixel pairs, top to bottom) between ``top`` and ``bottom`` that
+    none of ``keep`` lying across the columns ``x0``..``x1`` takes, ``gap`` pixels kept from
+    each: where a panel that column-wide may stand without hiding them."""
+    cuts = sorted((r.top - gap, r.bottom + gap) for r in keep if r.right > x0 and r.left < x1)
+    bands, y = [], top
+    for a, b in cuts:
+        if a > y:
+            bands.append((y, a))
+        y = max(y, b)
+    if bottom > y:
+        bands.append((y, bottom))
+    return bands
+
+
 def clips(place: pygame.Rect, rects: Sequence[pygame.Rect]) -> list[pygame.Rect]:
     """The parts of ``rects`` under a panel at ``place``, in the panel's pixels."""
     return [place.clip(r).move(-place.x, -place.y) for r in rects if place.colliderect(r)]

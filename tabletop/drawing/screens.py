@@ -4,6 +4,7 @@ reconnect, the idle look while nobody plays, and the operator's text on a transl
 from __future__ import annotations
 
 import math
+import re
 from typing import Any, Sequence
 
 import numpy as np
@@ -175,13 +176,47 @@ def _split_row(line: str, parts: Sequence[pygame.Surface], widths: Sequence[int]
     return head + [_table_row([spacer, *parts[1:]], widths, gap)]
 
 
+_FIGURE_UNIT = re.compile(r"([-+]?\d[\d.,:]*)\s+(\S.*)")   # "19.74 ms median": figure, words
+
+
+def _bare_table(lines: Sequence[str], px: int, keep: bool, gap: int, room: int
+                ) -> dict[int, pygame.Surface] | None:
+    """The table rows of ``lines`` with their figures bare, the words every row's cell of a
+    column shares ("ms median", "ms p99") said once on a head row above the first: the
+    surfaces by line index (the head's: -1), or None when the cells do not share their words
+    or the table is still wider than ``room`` px. The MOP example's panel, narrowed to 320 px
+    to end before the dancer (1280x720), split each stage row into its name and its figures:
+    24 text rows, 426 px tall, for 7 stages and 6 characters; bare, each row stays on one line:
+    18 rows, 324 px (tests/tabletop/test_view_panel_bare.py)."""
+    rows = {i: cells(line) for i, line in enumerate(lines) if "\t" in line}
+    ncol = max((len(r) for r in rows.values()), default=0)
+    if not rows or ncol < 2 or any(len(r) != ncol for r in rows.values()):
+        return None
+    split = {i: [_FIGURE_UNIT.fullmatch(c) for c in r[1:]] for i, r in rows.items()}
+    if any(m is None for ms in split.values() for m in ms):
+        return None
+    units = [{ms[k].group(2) for ms in split.values()} for k in range(ncol - 1)]
+    if any(len(u) != 1 for u in units):
+        return None
+    head = [pygame.Surface((0, 0), pygame.SRCALPHA)] + [panel_line(u.pop(), px, keep)
+                                                         for u in units]
+    parts = {i: [panel_line(rows[i][0], px, keep)]
+             + [panel_line(m.group(1), px, keep) for m in ms] for i, ms in split.items()}
+    widths = [max(r[k].get_width() for r in [head, *parts.values()]) for k in range(ncol)]
+    if sum(widths) + gap * (ncol - 1) > room:
+        return None
+    return {-1: _table_row(head, widths, gap),
+            **{i: _table_row(r, widths, gap) for i, r in parts.items()}}
+
+
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
           width: int | None = None, keep: bool = True) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
     line that would make the panel wider than ``width`` pixels wraps (``keep``: see
     :func:`panel_line`). Lines with tabs are rows of a table whose columns line up across the
     panel (the overlay's stage figures: spaces in a proportional font leave columns up to
-    30 px apart from line to line)."""
+    30 px apart from line to line); a table wider than the panel has its shared words said
+    once above it (:func:`_bare_table`), else each row splits in two (:func:`_split_row`)."""
     rows = {i: [panel_line(c, px, keep) for c in cells(line)]
             for i, line in enumerate(lines) if "\t" in line}
     ncol = max((len(r) for r in rows.values()), default=0)
@@ -190,8 +225,14 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
     gap = Sampled(px).size("   ")[0]
     room = None if width is None else width - 2 * pad
     split = room is not None and sum(widths) + gap * (ncol - 1) > room
+    bare = _bare_table(lines, px, keep, gap, room) if split and room is not None else None
     imgs = []
     for i, line in enumerate(lines):
+        if bare is not None and i in bare:
+            if i == min(rows):
+                imgs.append(bare[-1])
+            imgs.append(bare[i])
+            continue
         if i in rows and split:
             imgs.extend(_split_row(line, rows[i], widths, gap, room, px, keep))
             continue
@@ -402,19 +443,3 @@ class InvitationPlace:
         if self.at >= len(spots) or over(self.at):
             self.at = min(range(len(spots)), key=lambda i: (over(i), i))
         return spots[self.at]
-
-
-def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,
-               gap: int = 4) -> list[tuple[int, int]]:
-    """The rows (top, bottom pixel pairs, top to bottom) between ``top`` and ``bottom`` that
-    none of ``keep`` lying across the columns ``x0``..``x1`` takes, ``gap`` pixels kept from
-    each: where a panel that column-wide may stand without hiding them."""
-    cuts = sorted((r.top - gap, r.bottom + gap) for r in keep if r.right > x0 and r.left < x1)
-    bands, y = [], top
-    for a, b in cuts:
-        if a > y:
-            bands.append((y, a))
-        y = max(y, b)
-    if bottom > y:
-        bands.append((y, bottom))
-    return bands

@@ -46,6 +46,16 @@ def limb(r: Renderer, img: np.ndarray, xy: np.ndarray) -> np.ndarray:
     return np.median(patch, axis=0)
 
 
+def outline(r: Renderer, img: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    """The colour of the hinted figure at ``xy``'s outline (it is drawn outlined, its inside
+    faint): across the middle of its first limb, the brightest pixel's row within 20 px, the
+    median of the 5 px along the limb there."""
+    x, y = (int(v) for v in r.map.points(((xy[0] + xy[1]) / 2)[None])[0])
+    col = img[y - 20:y + 21, x].astype(int).sum(axis=1)
+    yy = y - 20 + int(np.argmax(col))
+    return np.median(img[yy, x - 2:x + 3].reshape(-1, 3), axis=0)
+
+
 def luminance(c: np.ndarray) -> float:
     return float(linear(c) @ XYZ[1])
 
@@ -63,7 +73,7 @@ def test_a_hint_keeps_its_characters_hue_and_is_fainter_than_it_acting(color):
     own, _ = hue_chroma(np.array(vivid(color), dtype=float))
     for p in (0.5, 1.0):
         r, img = drawn(color, p)
-        hint = limb(r, img, BODY + AWAY)
+        hint = outline(r, img, BODY + AWAY)
         h, chroma = hue_chroma(hint)
         turn = abs((h - own + 180.0) % 360.0 - 180.0)
         # measured, worst of the seven colours (lightened 30 % toward white before): 72 deg

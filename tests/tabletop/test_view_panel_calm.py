@@ -23,7 +23,7 @@ def test_a_body_stepping_near_the_narrowed_panels_end_leaves_it_as_it_is():
     """A body 0.2 m long beside the narrowed top-left panel steps 2.4 cm towards it for
     0.5 s: its left edge at 332 px leaves no 320 px width to wrap to, and the panel widened
     (371 px) over the body, then narrowed again (2 changes, 8,883 body px hidden a frame);
-    the narrowed panel, ending at 328 px, hides none of it and stays."""
+    the narrowed panel, ending at 328 px at most, hides none of it and stays."""
     r = Renderer((1.2, 0.8), (W, H), margin=24)
     target = pygame.Surface((W, H))
     others = [CharacterState(f"c{i}", x, y, 0.0, size=0.2, color=(240, 110, 150))
@@ -38,7 +38,9 @@ def test_a_body_stepping_near_the_narrowed_panels_end_leaves_it_as_it_is():
             assert body.left == 332, body                    # the step, as measured
         places.append(tuple(r.panel))
         hidden += k > 0 and r.panel.clip(body).w * r.panel.clip(body).h
-    assert places[1][:2] == (8, 8) and places[1][2] == 320   # narrowed in the top-left
+    # narrowed in the top-left: wrapped to 320 px, its figures bare (test_view_panel_bare.py)
+    # leave it 296 px wide (320 when its stage rows split in two)
+    assert places[1][:2] == (8, 8) and places[1][2] <= 320, places[1]
     assert len(set(places[1:])) == 1, sorted(set(places))
     assert hidden == 0
 
