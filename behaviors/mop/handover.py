@@ -42,6 +42,30 @@ point not moved 10 / 32 / 4; without the slowed input 9 / 31 / 6; 4 back 10 / 33
 43); 6 back without the slowed input and the end point not moved, 11 / 41 / 7: a backflip's end
 declared before its fast last sample (7 mm) anchored the roll ankle after it 6 mm off, and the
 walk ankle drove 7 ticks of it.
+The performer's tempo carried from where the input came to rest (measured, not kept; follower
+only): past 0.9 of its progress an action also ended once its progress at the input's last step
+over 6 still radii (Euclidean), advancing at its rate over the 6 samples before that, would
+have reached ``end`` in the samples since. Traced first, the held-out ended runs of 3-4 ticks
+(``bench/follow_seeds.py --sections=sequences``, twenty templates on 101, 106, 107, 109, six
+gestures on 108): the follower is level with its performer (within 0.01-0.02) until 0.77-0.87
+of the action, then crosses its eased end at 0.014-0.025 a sample (the prior's drift, about a
+state) while the performer goes on at 0.028-0.035 (its tempo unchanged); the input still steps
+2-5 still radii a sample there, over :data:`TEMPO_END_STILL`, so :func:`tempo_ended` waits.
+The rule put the end at the performer's last sample in four (on 107 the follower already
+lagged before the input slowed, 0.021 a sample against 0.030, and the end stayed 3 late). But
+``--sections=sized,unrelated,sequences`` (101-106): valid after 30% at 0.7-1.4x mean 0.9131 ->
+0.9033 (lower on every seed, 106 0.9054 -> 0.8931) and twenty templates' longest wrong run on
+101 4 -> 8; seed 106's losses (19 of 155 performances, 43 ticks) are performers slowing into
+their eased end, the follower level with them where the rule fired three samples before
+their last (a kick left wrist at 0.932, its performer at 0.928). Only where the input still
+moved past 0.8 of the action: 106 0.8985; and only for a follower past 0.95: 0.9022, and
+101's backflip (followed at 0.950 at its last sample) ended a sample late again, while an
+earlier end elsewhere moved a square's anchor and a line drove 8 ticks of its first side.
+Only where the input lay nearer the template's last point (at its size, from the anchor) than
+the followed state by 2 still radii (the performer ahead): 106 0.9032, no run of 3 shorter
+(101's backflip performer ends off its template's end at the estimated size) and 101's line 8.
+The same ambiguity as the forward that kept the tempo: the flat stretch does not tell a
+performer going on at their pace from one slowing into it.
 """
 
 from __future__ import annotations
