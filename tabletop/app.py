@@ -162,12 +162,14 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
     try:
         if view and cfg["view"]["enabled"]:
             from tabletop.schema import ConfigError
+            from tabletop.drawing.characters import configured_parts
             from tabletop.view import ProjectorView, invitation
             try:
                 sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats,
                                            commands=commands, stop=stop, headless=headless,
                                            homography=projector_homography(cfg, ctx),
-                                           invitation=invitation(cfg["engines"])))
+                                           invitation=invitation(cfg["engines"]),
+                                           parts=configured_parts(cfg["engines"])))
                 if cfg["view"]["calibration_check"]:
                     from tabletop.live_check import live_check
                     sinks.append(live_check(cfg, sinks[-1], ctx.shared.get("sources", ())))

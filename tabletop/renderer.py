@@ -141,10 +141,13 @@ class Renderer:
                                                     int(hi[0] - lo[0]), int(hi[1] - lo[1])))
         return self._table_px[1]
 
-    def prepare(self, target: pygame.Surface) -> None:
-        """Make what the first frame drawn onto ``target`` would make: the static table (its
-        soft light a 480 px glow: 0.15-0.39 s here, the run's first frame that much late)."""
+    def prepare(self, target: pygame.Surface, parts: Sequence[tuple[str, float]] = ()) -> None:
+        """Make what the first frames drawn onto ``target`` would make: the static table (its
+        soft light a 480 px glow: 0.15-0.39 s here, the run's first frame that much late) and
+        the glows of ``parts`` ((part, size m): :func:`characters.configured_parts`)."""
         self._background(target)
+        w, h = self.table
+        characters.prepare_glows(parts, self.map.scale_at(w / 2, h / 2))
 
     def _background(self, target: pygame.Surface) -> pygame.Surface:
         if self._static is None or self._static.get_size() != target.get_size():

@@ -196,7 +196,8 @@ class ProjectorView:
                  stats: LoopStats | None = None, commands: CommandQueue | None = None,
                  stop: threading.Event | None = None, headless: bool = False,
                  homography: np.ndarray | None = None, name: str = "view",
-                 invitation: str = INVITATIONS["puck"]) -> None:
+                 invitation: str = INVITATIONS["puck"],
+                 parts: Sequence[tuple[str, float]] = ()) -> None:
         self.name = name
         self.stats, self.commands, self.stop = stats, commands, stop
         asked = headless or options["headless"]
@@ -225,9 +226,10 @@ class ProjectorView:
         self.renderer = Renderer(table, given, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.renderer.incremental = True   # present only what changed (bench/view.py)
-        # the table made before the loop starts, not in its first tick (drawn 0.28 s late in
-        # config.yaml headless, 0.50 s in examples/mop.yaml: the table's 480 px glow)
-        self.renderer.prepare(self.screen)
+        # the table and the characters' glows (``parts``) made before the loop starts, not in
+        # its first ticks (drawn 0.28 s late in config.yaml headless, 0.50 s in
+        # examples/mop.yaml: the table's 480 px glow; its 3rd-4th frames 12 ms: 7 glows)
+        self.renderer.prepare(self.screen, parts)
         self.renderer.invitation = invitation
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None   # the panel's lines: head, characters, notes

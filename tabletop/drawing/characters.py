@@ -139,6 +139,38 @@ def bodies(chars: Sequence[CharacterState], table: TableToScreen) -> list[pygame
     return out
 
 
+GLOWS = {"reactor": (0.8, 0.0), "figure": (0.42, 6.0), "face": (0.62, 6.0)}   # (of size, + px)
+
+
+def glow_radius(part: str, size: float, ppm: float) -> float:
+    """The radius (px) of the glow under a ``part`` ("reactor", "figure" or "face") of ``size``
+    metres drawn at ``ppm`` pixels per metre."""
+    k, px = GLOWS[part]
+    return k * size * ppm + px
+
+
+def prepare_glows(parts: Sequence[tuple[str, float]], ppm: float) -> None:
+    """Make the glows of ``parts`` ((part, size m) pairs) at ``ppm`` pixels per metre before
+    they are drawn: each new glow size made in a frame cost that frame 1-9 ms (examples/mop.yaml,
+    its 3rd and 4th frames, 12 ms in all)."""
+    for part, size in parts:
+        P.prepare_glow(glow_radius(part, size, ppm))
+
+
+def configured_parts(engines: Sequence[dict]) -> list[tuple[str, float]]:
+    """The glowing parts ((part, size m)) of the characters a configuration's ``engines`` name:
+    Puppet Master's reactors, MOP's characters (a hybrid's body a figure; its face's size is
+    its points', known only when drawn)."""
+    out = []
+    for e in engines:
+        if e.get("kind") == "puppet_master" and isinstance(e.get("size"), (int, float)):
+            out.append(("reactor", float(e["size"])))
+        elif e.get("kind") == "mop":
+            out += [("face" if ch.get("kind") == "face" else "figure", float(ch["size"]))
+                    for ch in e.get("characters", ()) if isinstance(ch.get("size"), (int, float))]
+    return out
+
+
 def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:
     """The default character: an egg-shaped creature, nose along its heading, on a soft glow,
     with a lighter belly and two eyes. Returns the rectangle it touched."""
@@ -153,7 +185,7 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     cx, cy = pose.center
     # The glow keeps the grown-up size while the body grows in (its strength fades in): one
     # cached light per character instead of a new one every few frames of a fade.
-    touched = P.glow(surf, pose.center, 0.8 * c.size * pose.ppm, pose.color,
+    touched = P.glow(surf, pose.center, glow_radius("reactor", c.size, pose.ppm), pose.color,
                      0.36 * pose.alpha * pose.light)
     # Little feet peeking out at the sides, stepping while it moves.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
@@ -197,7 +229,7 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     # face's about its head's: about their bounding box, an arm stretched out (a touch-posed
     # hand dragged away) pulled it over the empty table beside the body.
     mx, my = (np.add.reduce(pts, axis=0) / len(pts)).tolist()   # (= mean, faster)
-    touched = P.glow(surf, (mx, my), 0.42 * c.size * pose.ppm + 6, pose.color,
+    touched = P.glow(surf, (mx, my), glow_radius("figure", c.size, pose.ppm), pose.color,
                      0.26 * pose.alpha * pose.light)
     topo = topology(len(pts), c.bones)
     w0 = max(1.5, _WIDTHS.get(c.kind, 0.045) * fig)
@@ -236,7 +268,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarra
     glow = None
     if len(head):
         mx, my = (np.add.reduce(pts[head], axis=0) / len(head)).tolist()   # (= mean, faster)
-        glow = P.glow(surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
+        glow = P.glow(surf, (mx, my), glow_radius("face", c.size, pose.ppm), pose.color,
                       0.32 * pose.alpha * pose.light)
     _, _, shadow, _, body, _, _, white, ink = inks(pose.color, pose.alpha, pose.ground)
     stroke = float(max(1.5, 0.022 * fig))

@@ -126,6 +126,11 @@ def _white_light(values: np.ndarray) -> pygame.Surface:
     return fast(pygame.surfarray.make_surface(rgb))
 
 
+def prepare_glow(radius: float) -> None:
+    """Make the white glow a light of ``radius`` pixels is tinted from (:func:`glow_surface`)."""
+    _glow_base(_size_bucket(radius))
+
+
 def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface:
     """A soft round light (blit with BLEND_ADD): ``color`` x ``strength`` at the centre, falling
     smoothly to nothing at ``radius`` pixels."""
