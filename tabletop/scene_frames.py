@@ -1,12 +1,16 @@
 """A busy table for the view's tests and benchmarks: eight characters of every kind (three
 Puppet Master reactors, two MOP humanoids, a creature, a face, a sprite-sheet bird), all moving,
-and sixteen pucks wandering (some coasting), as Frames at 60 Hz."""
+and sixteen pucks wandering (some coasting), as Frames at 60 Hz; :func:`hinted_frames`: three
+of them suspecting an action (MOP early feedback)."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
+
+import numpy as np
 
 from behaviors.mop.creatures import FaceModel, creature_clips, creature_skeleton, face_clips
 from behaviors.mop.puppetry import FaceRig, HumanoidRig, PlanarRig, sprite_sheet_from_mapping
@@ -64,3 +68,24 @@ def busy_frames(n: int, rate_hz: float = 60.0, pucks: int = 16) -> list[Frame]:
                            state="coasting" if i % 5 == 0 else "seen"))
         frames.append(Frame(seq=k, t=t, pucks=tuple(pk), characters=tuple(chars)))
     return frames
+
+
+HINTED = ("dancer0", "salamander", "bird")   # three MOP characters of three kinds
+
+
+def hinted_frames(frames: list[Frame], names: tuple[str, ...] = HINTED,
+                  shift_m: float = 0.12) -> list[Frame]:
+    """``frames`` with the characters ``names`` suspecting an action (MOP early feedback: not
+    yet acting, a hinted pose at 0.8): their own pose ``shift_m`` metres towards the table's
+    middle (across its length), drawn as an outline and named."""
+    out = []
+    for f in frames:
+        chars = []
+        for c in f.characters:
+            if c.name in names and c.points is not None:
+                dy = shift_m if c.y < TABLE[1] / 2 else -shift_m
+                c = dataclasses.replace(c, valid=False, hints=(("circle", 0.8, 0.5),),
+                                        hint_points=np.asarray(c.points) + (0.0, dy))
+            chars.append(c)
+        out.append(dataclasses.replace(f, characters=tuple(chars)))
+    return out
