@@ -114,7 +114,7 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
     px = max(13, round(HINT_LABEL_PX * min(W, H) / 720))   # (11 px at 800x600 was not read)
     line = action.replace("_", " ") + "?"
     ink = lighten(vivid(tuple(color), 1.0, 0.8, 0.8), 0.3)
-    img = screens._line(line, px, ink, reading)
+    img = screens.turned_line(line, px, ink, reading)
     up = (around.h if reading.up[1] else around.w) / 2 + 4
     at = reading.at(img.get_size(), reading.offset(around.center, up=up), (0.5, 1.0))
     if not table.contains(at):

@@ -318,13 +318,14 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     """One line centred on ``center``, at opacity ``alpha``, upright on the table as
     ``reading`` says (rendered and turned once per line, size, colour and reading: a breathing
     line costs a blit per frame, not a render)."""
-    img = _line(line, px, color, reading)
+    img = turned_line(line, px, color, reading)
     img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
     surf.blit(img, reading.at(img.get_size(), center))
 
 
-def _line(line: str, px: int, color: Color, reading: Reading) -> pygame.Surface:
-    """:func:`words` turned by ``reading``, kept per line, size, colour and reading."""
+def turned_line(line: str, px: int, color: Color, reading: Reading) -> pygame.Surface:
+    """``line`` in words ``px`` tall of ``color`` (:func:`words`) turned by ``reading`` for its
+    reader, kept per line, size, colour and reading (a hint's name: :mod:`light`)."""
     key = (line, px, color, reading)
     img = _lines.get(key)
     if img is None:
@@ -435,7 +436,7 @@ class InvitationPlace:
         ``bodies`` (pixels)."""
         if not line:
             return spots[0]
-        size = _line(line, px, INVITE_COLOR, reading).get_size()
+        size = turned_line(line, px, INVITE_COLOR, reading).get_size()
 
         def over(i: int) -> int:
             r = reading.at(size, spots[i])
