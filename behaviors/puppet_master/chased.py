@@ -169,19 +169,12 @@ import math
 
 import numpy as np
 
-from behaviors.puppet_master.hand_motion import (Policy, Table, Vec, _limit, _Seen, _turn_toward,
-                                                 _unit)
+from behaviors.puppet_master.hand_motion import Policy, Table, Vec, _Seen, _turn_toward, _unit
+from behaviors.puppet_master.reactor_hand import above
 from tabletop.frames import wrap_angle
 
 ALARM_M = 0.5        # the afraid character keeps at least this far from a moving main
 WALL_M = 0.2         # walls push it off within this distance
-
-
-def _wall(p: Vec, table: Table) -> Vec:
-    """Push off the table's edges: each component grows from 0 at WALL_M to 1 at the edge."""
-    w, h = table
-    return np.array([max(0.0, WALL_M - p[0]) - max(0.0, p[0] - (w - WALL_M)),
-                     max(0.0, WALL_M - p[1]) - max(0.0, p[1] - (h - WALL_M))]) / WALL_M
 
 
 def afraid(rng: np.random.Generator, table: Table, dt: float) -> Policy:
@@ -201,34 +194,53 @@ def afraid(rng: np.random.Generator, table: Table, dt: float) -> Policy:
     at half the speed from a still main farther than 0.2 m met 165/155/134 (held-out seeds
     7-13 on seeds 53/54: 172/167 of 224, against 183/147): no better than the re-matching's
     noise."""
-    st = {"side": 0.0, "hold": 0.0}
+    # plain floats, the same operations in the same order as on 2-vectors (reactor_hand's
+    # module doc; np.dot of two 2-vectors is a0 * b0 + a1 * b1, 0 different of 400,000 pairs)
+    side_held, hold = 0.0, 0.0
+    w, h = table
+    hypot, atan2 = np.hypot, math.atan2
 
-    def flight(p: Vec, away: Vec) -> Vec:
-        wall = _wall(p, table)
-        flee = _unit(away + 1.5 * wall)
-        pinned = float(np.hypot(*wall)) > 0.25 and float(np.dot(away, wall)) < 0.0
-        if pinned or float(np.dot(flee, away)) < 0.2:
-            side = np.array([-away[1], away[0]])
-            if st["hold"] <= 0.0:
-                room = float(np.dot(side, wall))
-                st["side"] = 1.0 if room > 0 or (room == 0 and rng.random() < 0.5) else -1.0
-                st["hold"] = 0.8
-            flee = _unit(st["side"] * side + 0.5 * away + 1.0 * wall)
-        return flee
+    def wall(px: float, py: float) -> tuple[float, float]:
+        """Push off the table's edges: each component grows from 0 at WALL_M to 1 at the
+        edge."""
+        return ((max(0.0, WALL_M - px) - max(0.0, px - (w - WALL_M))) / WALL_M,
+                (max(0.0, WALL_M - py) - max(0.0, py - (h - WALL_M))) / WALL_M)
+
+    def unit(x: float, y: float) -> tuple[float, float]:
+        n = float(hypot(x, y))
+        return (x / n, y / n) if n > 1e-9 else (0.0, 0.0)
+
+    def flight(px: float, py: float, ax: float, ay: float) -> tuple[float, float]:
+        nonlocal side_held, hold
+        wx, wy = wall(px, py)
+        fx, fy = unit(ax + 1.5 * wx, ay + 1.5 * wy)
+        pinned = above(wx, wy, 0.25) and ax * wx + ay * wy < 0.0
+        if pinned or fx * ax + fy * ay < 0.2:
+            sx, sy = -ay, ax
+            if hold <= 0.0:
+                room = sx * wx + sy * wy
+                side_held = 1.0 if room > 0 or (room == 0 and rng.random() < 0.5) else -1.0
+                hold = 0.8
+            fx, fy = unit(side_held * sx + 0.5 * ax + 1.0 * wx,
+                          side_held * sy + 0.5 * ay + 1.0 * wy)
+        return fx, fy
 
     def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
-        rel = p - m.p
-        d = float(np.hypot(*rel))
-        away = _unit(rel)
-        st["hold"] -= dt
-        watch = math.atan2(-rel[1], -rel[0])
+        nonlocal hold
+        (mx, my), (px, py) = m.p.tolist(), p.tolist()
+        rx, ry = px - mx, py - my
+        d = float(hypot(rx, ry))
+        ax, ay = (rx / d, ry / d) if d > 1e-9 else (0.0, 0.0)        # _unit
+        hold -= dt
+        watch = atan2(-ry, -rx)
         if d < ALARM_M:
-            v_des = flight(p, away) * (0.15 + 0.45 * (ALARM_M - d) / ALARM_M)
-            face = math.atan2(v[1], v[0]) if float(np.hypot(*v)) > 0.12 else watch
-        else:                                   # calm: drifts off the edges, watches
-            v_des = 0.1 * _wall(p, table)
-            face = watch
-        return v_des, face
+            fx, fy = flight(px, py, ax, ay)
+            k = 0.15 + 0.45 * (ALARM_M - d) / ALARM_M
+            vx, vy = v.tolist()
+            face = atan2(vy, vx) if above(vx, vy, 0.12) else watch
+            return np.array((fx * k, fy * k)), face
+        wx, wy = wall(px, py)                   # calm: drifts off the edges, watches
+        return np.array((0.1 * wx, 0.1 * wy)), watch
     return policy
 
 
@@ -262,40 +274,55 @@ class ChasingHand:
         self.side = np.array([math.cos(a), math.sin(a)])
 
     def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray:
-        """Main pose (x, y, dir) at sample ``i`` from the previous one and the reactor."""
+        """Main pose (x, y, dir) at sample ``i`` from the previous one and the reactor (on
+        plain floats, the same floats as on 2-vectors: reactor_hand's module doc)."""
         dt, (w, h) = self.dt, self.table
+        hypot, atan2 = np.hypot, math.atan2
         self.left -= dt
         if self.left <= 0.0:
             self._next_mode()
-        p = prev[1:3]
-        to = react[:2] - p
-        d = float(np.hypot(*to))
-        look = float(prev[3])
-        if self.mode in ("approach", "herd"):
+        mode = self.mode
+        _, px, py, look = prev[:4].tolist()
+        rx, ry = react[:2].tolist()
+        tx, ty = rx - px, ry - py
+        d = float(hypot(tx, ty))
+        if mode == "approach" or mode == "herd":
             # aim beside the reactor, on the drawn side (approach) or the table centre's side
             # (herd), by a share of the distance: the hand arcs in and ends on the reactor
-            side = self.side if self.mode == "approach" else _unit(
-                np.array([0.5 * w, 0.5 * h]) - react[:2])
-            aim = react[:2] + side * 0.5 * d
-            want = math.atan2(aim[1] - p[1], aim[0] - p[0])
+            if mode == "approach":
+                sx, sy = self.side.tolist()
+            else:
+                sx, sy = _unit(np.array([0.5 * w, 0.5 * h]) - react[:2]).tolist()
+            want = atan2((ry + sy * 0.5 * d) - py, (rx + sx * 0.5 * d) - px)
             if self.heading is None:
                 self.heading = want
             self.heading = _turn_toward(self.heading, want, 3.0 * dt)
-            v_des = np.array([math.cos(self.heading), math.sin(self.heading)]) * (
-                self.speed * min(1.0, max(0.0, d - 0.07) / 0.1))
-        elif self.mode == "pull_back":
-            v_des = -_unit(to) * self.speed
-        elif self.mode == "pause":
-            v_des = np.zeros(2)
+            k = self.speed * min(1.0, max(0.0, d - 0.07) / 0.1)
+            dx, dy = math.cos(self.heading) * k, math.sin(self.heading) * k
+        elif mode == "pull_back":
+            ux, uy = (tx / d, ty / d) if d > 1e-9 else (0.0, 0.0)    # _unit
+            dx, dy = -ux * self.speed, -uy * self.speed
+        elif mode == "pause":
+            dx = dy = 0.0
             look = wrap_angle(look + self.spin * dt)
         else:
-            v_des = (self.wander[i, 1:3] - self.wander[i - 1, 1:3]) / dt
-        self.v = self.v + _limit(v_des - self.v, 1.2 * dt)
-        q = np.minimum(np.maximum(p + self.v * dt, 0.05), (w - 0.05, h - 0.05))   # as np.clip
-        if float(np.hypot(*self.v)) > 0.04:
-            look = _turn_toward(look, math.atan2(self.v[1], self.v[0]), 6.0 * dt)
-            if self.mode not in ("approach", "herd"):
-                self.heading = math.atan2(self.v[1], self.v[0])
-        elif self.mode == "wander":
+            wander = self.wander
+            dx, dy = (float(wander[i, 1] - wander[i - 1, 1]) / dt,
+                      float(wander[i, 2] - wander[i - 1, 2]) / dt)
+        vx, vy = self.v.tolist()
+        ax, ay = dx - vx, dy - vy
+        most = 1.2 * dt
+        if above(ax, ay, most):                 # _limit
+            f = most / float(hypot(ax, ay))
+            ax, ay = ax * f, ay * f
+        vx, vy = vx + ax, vy + ay
+        self.v = np.array((vx, vy))
+        qx = min(max(px + vx * dt, 0.05), w - 0.05)         # np.clip's values
+        qy = min(max(py + vy * dt, 0.05), h - 0.05)
+        if above(vx, vy, 0.04):
+            look = _turn_toward(look, atan2(vy, vx), 6.0 * dt)
+            if mode != "approach" and mode != "herd":
+                self.heading = atan2(vy, vx)
+        elif mode == "wander":
             look = wrap_angle(look + wrap_angle(float(self.wander[i, 3] - self.wander[i - 1, 3])))
-        return np.array([q[0], q[1], look])
+        return np.array([qx, qy, look])

@@ -14,19 +14,19 @@ seconds from 0 at ``rate_hz``, table metres, look directions in radians wrapped 
 from __future__ import annotations
 
 import math
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 
-from behaviors.puppet_master import chased
-from behaviors.puppet_master.hand_motion import (Policy, Table, Vec, _limit, _Seen, _tremor,
-                                                 _turn_toward, _unit)
+from behaviors.puppet_master import chased, reactor_hand
+from behaviors.puppet_master.hand_motion import (Policy, Table, Vec, _Seen, _tremor, _turn_toward,
+                                                 _unit)
+from behaviors.puppet_master.reactor_hand import CONTACT, MainHand
 from behaviors.puppet_master.sequential import main_at
 from tabletop.frames import wrap_angle, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
 PERSONALITIES = ("lover", "bully", "playful_friend", "stalker", "afraid")
-CONTACT = 0.055  # metres between puck centres when two pucks touch
 SEEDS = {"lover": 11, "bully": 23, "playful_friend": 37, "stalker": 41, "afraid": 53}
 # a demonstration's length (s) where not 60 s: a character shown chased is shown in two kinds
 # of situation, calm and chased (chased.py: the longer demonstration and its figures)
@@ -54,148 +54,175 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
     dt = 1.0 / rate_hz
     n = int(round(seconds * rate_hz))
     p = rng.uniform(lo, hi)
-    v = np.zeros(2)
     look = float(rng.uniform(-math.pi, math.pi))
     goal, speed, pause, spin = rng.uniform(lo, hi), float(np.clip(0.18, *speed_range)), 0.0, 0.0
-    wander = _tremor(rng, n, rate_hz, 0.05, 0.5, 0.5)   # the hand's path curves, radians
-    out = np.empty((n, 4))
+    wander = _tremor(rng, n, rate_hz, 0.05, 0.5, 0.5).tolist()  # the hand's path curves, rad
+    # plain floats, the same operations in the same order as on 2-vectors (np.hypot, not
+    # math.hypot: it differs in the last bit on 0.6% of pairs), so the same path bit for bit;
+    # with the policies and reactor_hand on floats, 10 takes 2.11 -> 0.48 CPU s
+    hypot, turn, above = np.hypot, _turn_toward, reactor_hand.above
+    px, py, gx, gy, vx, vy = float(p[0]), float(p[1]), float(goal[0]), float(goal[1]), 0.0, 0.0
+    dv_most, turn_most, chance = 0.9 * dt, 6.0 * dt, reversals_per_s * dt
+    rows = []
     for i in range(n):
         if pause > 0.0:
             pause -= dt
-            v_des = np.zeros(2)
+            dx = dy = 0.0
             look = wrap_angle(look + spin * dt)
             if pause <= 0.0:
                 goal, speed = rng.uniform(lo, hi), float(rng.uniform(*speed_range))
+                gx, gy = float(goal[0]), float(goal[1])
         else:
-            to_goal = goal - p
-            d = float(np.hypot(*to_goal))
+            tx, ty = gx - px, gy - py
+            d = float(hypot(tx, ty))
             if d < 0.03:
                 if rng.random() < 0.4:
                     pause = float(rng.uniform(0.6, 2.5))
                     spin = float(rng.choice([0.0, 0.0, rng.uniform(-1.5, 1.5)]))
                 goal, speed = rng.uniform(lo, hi), float(rng.uniform(*speed_range))
-                to_goal, d = goal - p, float(np.hypot(*(goal - p)))
-            elif float(np.hypot(*v)) > 0.08 and rng.random() < reversals_per_s * dt:
-                back = p - _unit(v) * float(rng.uniform(0.2, 0.4))
+                gx, gy = float(goal[0]), float(goal[1])
+                tx, ty = gx - px, gy - py
+                d = float(hypot(tx, ty))
+            elif above(vx, vy, 0.08) and rng.random() < chance:
+                back = np.array((px, py)) - _unit(np.array((vx, vy))) * float(
+                    rng.uniform(0.2, 0.4))
                 goal = np.clip(back, lo, hi)            # pulled back the way it came
-                to_goal, d = goal - p, float(np.hypot(*(goal - p)))
+                gx, gy = float(goal[0]), float(goal[1])
+                tx, ty = gx - px, gy - py
+                d = float(hypot(tx, ty))
             c, s_ = math.cos(wander[i]), math.sin(wander[i])
-            u = _unit(to_goal)
-            v_des = np.array([c * u[0] - s_ * u[1], s_ * u[0] + c * u[1]])
-            v_des *= speed * min(1.0, d / 0.1)
-        v = v + _limit(v_des - v, 0.9 * dt)
-        p = np.minimum(np.maximum(p + v * dt, 0.0), (w, h))      # np.clip's values, faster
-        if float(np.hypot(*v)) > 0.04:
-            heading = math.atan2(v[1], v[0])
-            step = min(6.0 * dt, abs(wrap_angle(heading - look)) * dt / 0.15)   # lag, rate limit
-            look = _turn_toward(look, heading, step)
-        out[i] = (i * dt, p[0], p[1], look)
-    return out
+            ux, uy = (tx / d, ty / d) if d > 1e-9 else (0.0, 0.0)    # _unit
+            f = speed * min(1.0, d / 0.1)
+            dx, dy = (c * ux - s_ * uy) * f, (s_ * ux + c * uy) * f
+        ax, ay = dx - vx, dy - vy
+        if above(ax, ay, dv_most):                  # _limit
+            f = dv_most / float(hypot(ax, ay))
+            ax, ay = ax * f, ay * f
+        vx, vy = vx + ax, vy + ay
+        px = min(max(px + vx * dt, 0.0), w)         # np.clip's values
+        py = min(max(py + vy * dt, 0.0), h)
+        if above(vx, vy, 0.04):
+            heading = math.atan2(vy, vx)
+            step = min(turn_most, abs(wrap_angle(heading - look)) * dt / 0.15)  # lag, rate limit
+            look = turn(look, heading, step)
+        rows.append((i * dt, px, py, look))
+    return np.array(rows).reshape(n, 4)
+
+
+# The policies run every sample on plain floats: the same operations in the same order as on
+# 2-vectors, so the same floats (reactor_hand's module doc); they return 2-vectors.
 
 
 def _lover(rng: np.random.Generator) -> Policy:
     """Approaches, stays close (about 0.12 m) facing the main, nuzzling side to side."""
     phase = float(rng.uniform(0, math.tau))
+    hypot, sin, cos, atan2 = np.hypot, math.sin, math.cos, math.atan2
 
     def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
-        rel = m.p - p
-        d = float(np.hypot(*rel))
-        face = math.atan2(rel[1], rel[0])
-        side = np.array([-math.sin(face), math.cos(face)])
-        v_des = _unit(rel) * float(np.clip(2.0 * (d - 0.12), -0.15, 0.35)) + 0.8 * m.v
+        (mx, my), (mvx, mvy), (px, py) = m.p.tolist(), m.v.tolist(), p.tolist()
+        rx, ry = mx - px, my - py
+        d = float(hypot(rx, ry))
+        face = atan2(ry, rx)
+        ux, uy = (rx / d, ry / d) if d > 1e-9 else (0.0, 0.0)        # _unit
+        k = min(max(2.0 * (d - 0.12), -0.15), 0.35)                   # np.clip's value
+        vx, vy = ux * k + 0.8 * mvx, uy * k + 0.8 * mvy
         if d < 0.2:
-            v_des = v_des + side * 0.06 * math.sin(2 * math.pi * 0.8 * t + phase)
-        return v_des, face
+            nuzzle = sin(2 * math.pi * 0.8 * t + phase)
+            vx, vy = vx + -sin(face) * 0.06 * nuzzle, vy + cos(face) * 0.06 * nuzzle
+        return np.array((vx, vy)), face
     return policy
 
 
 def _bully(rng: np.random.Generator, dt: float) -> Policy:
     """Lurks facing the main, charges at it, pushes into it, then backs off; again and again."""
-    st = {"mode": "lurk", "left": float(rng.uniform(1.0, 2.5)), "side": 1.0}
+    mode, left, side = "lurk", float(rng.uniform(1.0, 2.5)), 1.0
+    hypot, atan2 = np.hypot, math.atan2
 
     def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
-        rel = m.p - p
-        d = float(np.hypot(*rel))
-        face = math.atan2(rel[1], rel[0])
-        u = _unit(rel)
-        st["left"] -= dt
-        mode = st["mode"]
+        nonlocal mode, left, side
+        (mx, my), (mvx, mvy), (px, py) = m.p.tolist(), m.v.tolist(), p.tolist()
+        rx, ry = mx - px, my - py
+        d = float(hypot(rx, ry))
+        face = atan2(ry, rx)
+        ux, uy = (rx / d, ry / d) if d > 1e-9 else (0.0, 0.0)        # _unit
+        left -= dt
         if mode == "lurk":
-            side = np.array([-u[1], u[0]]) * st["side"]
-            v_des = u * 1.5 * (d - 0.3) + side * 0.08 + m.v
-            if st["left"] <= 0:
-                st["mode"] = "charge"
+            sx, sy = -uy * side, ux * side
+            k = d - 0.3
+            vx, vy = ux * 1.5 * k + sx * 0.08 + mvx, uy * 1.5 * k + sy * 0.08 + mvy
+            if left <= 0:
+                mode = "charge"
         elif mode == "charge":
-            v_des = u * 0.65
+            vx, vy = ux * 0.65, uy * 0.65
             if d < 0.07:
-                st["mode"], st["left"] = "push", float(rng.uniform(0.3, 0.6))
+                mode, left = "push", float(rng.uniform(0.3, 0.6))
         elif mode == "push":
-            v_des = u * 0.2 + m.v
-            if st["left"] <= 0:
-                st["mode"], st["left"] = "back", float(rng.uniform(0.8, 1.4))
+            vx, vy = ux * 0.2 + mvx, uy * 0.2 + mvy
+            if left <= 0:
+                mode, left = "back", float(rng.uniform(0.8, 1.4))
         else:
-            v_des = -u * 0.28 + m.v * 0.5
-            if st["left"] <= 0 or d > 0.4:
-                st["mode"], st["left"] = "lurk", float(rng.uniform(1.0, 2.5))
-                st["side"] = float(rng.choice([-1.0, 1.0]))
-        return v_des, face
+            vx, vy = -ux * 0.28 + mvx * 0.5, -uy * 0.28 + mvy * 0.5
+            if left <= 0 or d > 0.4:
+                mode, left = "lurk", float(rng.uniform(1.0, 2.5))
+                side = float(rng.choice([-1.0, 1.0]))
+        return np.array((vx, vy)), face
     return policy
 
 
 def _playful_friend(rng: np.random.Generator, dt: float) -> Policy:
     """Circles counter-clockwise around the main, darting in close and out again."""
-    st = {"theta": None, "dart": float(rng.uniform(1.5, 3.0)), "dart_t": -10.0}
+    theta: float | None = None
+    dart, dart_t = float(rng.uniform(1.5, 3.0)), -10.0
+    hypot, sin, cos, atan2 = np.hypot, math.sin, math.cos, math.atan2
 
     def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
-        rel = p - m.p
-        if st["theta"] is None:
-            st["theta"] = math.atan2(rel[1], rel[0])
-        st["theta"] += 2.4 * dt
-        st["dart"] -= dt
-        if st["dart"] <= 0:
-            st["dart_t"], st["dart"] = t, float(rng.uniform(2.0, 4.0))
-        age = t - st["dart_t"]
-        r = 0.17 - (0.11 * math.sin(math.pi * age / 0.6) if age < 0.6 else 0.0)
-        r += 0.03 * math.sin(1.3 * t)
-        th = st["theta"]
-        goal = m.p + r * np.array([math.cos(th), math.sin(th)])
-        tangent = 2.4 * r * np.array([-math.sin(th), math.cos(th)])
-        v_des = m.v + tangent + 5.0 * (goal - p)
-        sp = float(np.hypot(*v))
-        face = math.atan2(v[1], v[0]) if sp > 0.05 else math.atan2(-rel[1], -rel[0])
-        return v_des, face
+        nonlocal theta, dart, dart_t
+        (mx, my), (mvx, mvy), (px, py) = m.p.tolist(), m.v.tolist(), p.tolist()
+        rx, ry = px - mx, py - my
+        if theta is None:
+            theta = atan2(ry, rx)
+        theta += 2.4 * dt
+        dart -= dt
+        if dart <= 0:
+            dart_t, dart = t, float(rng.uniform(2.0, 4.0))
+        age = t - dart_t
+        r = 0.17 - (0.11 * sin(math.pi * age / 0.6) if age < 0.6 else 0.0)
+        r += 0.03 * sin(1.3 * t)
+        c, s_ = cos(theta), sin(theta)
+        gx, gy = mx + r * c, my + r * s_
+        k = 2.4 * r
+        vx, vy = mvx + k * -s_ + 5.0 * (gx - px), mvy + k * c + 5.0 * (gy - py)
+        (ox, oy) = v.tolist()
+        sp = float(hypot(ox, oy))
+        face = atan2(oy, ox) if sp > 0.05 else atan2(-ry, -rx)
+        return np.array((vx, vy)), face
     return policy
 
 
 def _stalker(rng: np.random.Generator) -> Policy:
     """Follows about 0.35 m behind the main, watching it; stops when it stops."""
-    st = {"heading": None}
+    heading: float | None = None
+    hypot, atan2 = np.hypot, math.atan2
 
     def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
-        rel = m.p - p
-        d = float(np.hypot(*rel))
-        face = math.atan2(rel[1], rel[0])
+        nonlocal heading
+        (mx, my), (mvx, mvy), (px, py) = m.p.tolist(), m.v.tolist(), p.tolist()
+        rx, ry = mx - px, my - py
+        d = float(hypot(rx, ry))
+        face = atan2(ry, rx)
+        ux, uy = (rx / d, ry / d) if d > 1e-9 else (0.0, 0.0)        # _unit
         if m.speed > 0.03:
-            st["heading"] = math.atan2(m.v[1], m.v[0])
-        if st["heading"] is None or m.speed <= 0.03:
-            v_des = np.zeros(2)
+            heading = atan2(mvy, mvx)
+        if heading is None or m.speed <= 0.03:
             if d < 0.22:                     # discovered: back off a little
-                v_des = -_unit(rel) * 0.12
-            return v_des, face
-        hd = st["heading"]
-        goal = m.p - 0.35 * np.array([math.cos(hd), math.sin(hd)])
-        v_des = m.v + 2.0 * (goal - p)
+                return np.array((-ux * 0.12, -uy * 0.12)), face
+            return np.zeros(2), face
+        gx, gy = mx - 0.35 * math.cos(heading), my - 0.35 * math.sin(heading)
+        vx, vy = mvx + 2.0 * (gx - px), mvy + 2.0 * (gy - py)
         if d < 0.22:
-            v_des = v_des - _unit(rel) * 0.2
-        return v_des, face
+            vx, vy = vx - ux * 0.2, vy - uy * 0.2
+        return np.array((vx, vy)), face
     return policy
-
-
-class MainHand(Protocol):
-    """A main hand that reacts to the reactor: the main pose (x, y, dir) of sample ``i`` from
-    the previous one and the reactor's position now."""
-
-    def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray: ...
 
 
 CHASED = ("afraid",)   # personalities whose designer shows them by chasing them (chased.py)
@@ -261,29 +288,9 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float | None
     p = np.clip(start, edge, (w - edge, h - edge))
     if float(np.hypot(*(p - mp[0]))) < 0.1:
         p = np.clip(mp[0] - (start - mp[0]), edge, (w - edge, h - edge))
-    v = np.zeros(2)
     look = math.atan2(mp[0, 1] - p[1], mp[0, 0] - p[0])
-    react = np.empty((n, 3))
-    for i in range(n):
-        if chaser is not None and i > 0:
-            main[i, 1:4] = chaser.step(i, main[i - 1], p)
-            mv[i] = (mp[i] - mp[i - 1]) / dt
-        j = max(0, i - lag)
-        v_des, look_des = policy(i * dt, p, v, look, _Seen(mp[j], mv[j], float(main[j, 3])))
-        v_des = _limit(np.asarray(v_des, dtype=float), top_speed)
-        for k, size in ((0, w), (1, h)):      # the hand stops at the table's edge
-            if (p[k] <= edge + 0.01 and v_des[k] < 0) or \
-                    (p[k] >= size - edge - 0.01 and v_des[k] > 0):
-                v_des[k] = 0.0
-        v = v + _limit(v_des - v, accel * dt)
-        p = np.minimum(np.maximum(p + v * dt, edge), (w - edge, h - edge))   # np.clip's values
-        gap = p - mp[i]
-        d = float(np.hypot(*gap))
-        if d < CONTACT:                       # two pucks cannot overlap: pushed aside
-            p = mp[i] + (gap / d if d > 1e-9 else np.array([1.0, 0.0])) * CONTACT
-            v = v - min(0.0, float(np.dot(v, _unit(gap)))) * _unit(gap)
-        look = _turn_toward(look, look_des, 8.0 * dt)
-        react[i] = (p[0], p[1], look)
+    react = reactor_hand.react(policy, main, mv, p, look, lag, dt, top_speed, accel, table,
+                               edge, chaser)
     pos_rms, ang_rms, (lo_hz, hi_hz) = SHAKE.get(personality, (0.0015, 0.03, (3.0, 10.0)))
     shake = np.random.default_rng([seed, 2])
     out = np.empty((n, 7))

@@ -49,9 +49,10 @@ def _turn_toward(a: float, target: float, most: float) -> float:
 class _Seen:
     """What the reactor's hand perceives of the main puck (delayed): position, velocity, look."""
 
-    def __init__(self, p: Vec, v: Vec, look: float) -> None:
+    def __init__(self, p: Vec, v: Vec, look: float, speed: float | None = None) -> None:
+        """``speed``: ``v``'s norm (m/s) if the caller has it (np.hypot's, the same float)."""
         self.p, self.v, self.look = p, v, look
-        self.speed = float(np.hypot(v[0], v[1]))
+        self.speed = float(np.hypot(v[0], v[1])) if speed is None else speed
 
 
 Policy = Callable[[float, Vec, Vec, float, _Seen], tuple[Vec, float]]
