@@ -18,17 +18,24 @@ class Validity:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: the tempo of a new action
     (:func:`~behaviors.mop.tempo.slow_take`) and the overrun of its path."""
 
-    def _slow_take(self, k: int, g: np.ndarray, x: np.ndarray) -> tuple[bool, bool]:
+    def _slow_take(self, k: int, g: np.ndarray, x: np.ndarray,
+                   samples: int | None = None) -> tuple[bool, bool]:
         """Template ``k`` (followed states ``g``, bank index) is taken too slowly by sample ``x``
         (:func:`~behaviors.mop.tempo.slow_take`) against the oldest of the last
-        :data:`~behaviors.mop.tempo.TEMPO_SAMPLES` samples; and whether the input hovers
-        meanwhile (:func:`~behaviors.mop.tempo.crawl_run`; not yet whether ``k`` drove)."""
+        :data:`~behaviors.mop.tempo.TEMPO_SAMPLES` samples, or its first state at the anchor
+        where that one precedes the attempt (:func:`~behaviors.mop.tempo.before_attempt`;
+        ``samples``: the attempt's with this one, by default those of the shape sums); and
+        whether the input hovers meanwhile (:func:`~behaviors.mop.tempo.crawl_run`; not yet
+        whether ``k`` drove)."""
         if tempo.LEAST_TEMPO <= 0 or len(self._tempo_past) < tempo.TEMPO_SAMPLES:
             return False, False
         then, x0, _ = self._tempo_past[0]
+        was = float(then[k])
+        if tempo.before_attempt(self._shape_n if samples is None else samples):
+            x0, was = self._anchor, 0.0
         r = (x - x0) / (self.bank.scale[k] * self._size[k])
         moved = math.sqrt(float(np.mean(r * r)))
-        advance = float(g[k] - self.bank.starts[k] - then[k])
+        advance = float(g[k] - self.bank.starts[k] - was)
         onset = self.onset * self.sigma
         hovers = moved < onset and abs(advance) < tempo.LEAST_TEMPO * tempo.TEMPO_SAMPLES
         return tempo.slow_take(advance, moved, onset), hovers

@@ -410,7 +410,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                                                shared, sh_off[i], refused, misshaped,
                                                progress_out, gone))
                     or slow_of(i, kb, gk, x, tempo_x, tempo_g, ints[14], ints[15], tc, sc0,
-                               size[kb], dims, onset_sigma)):
+                               size[kb], dims, onset_sigma, shape_n[i] + 1.0, anchor)):
                 freed[i], bar = bar, -1
                 barred[i] = -1
         if bar >= 0:

@@ -246,37 +246,45 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
 
 
 @compiled(numba.boolean(numba.intp, numba.intp, numba.float64, _F2, _F3, _F2, _I1, _I1, _F2,
-                        numba.intp, numba.float64, numba.float64, numba.float64), *_CALLS_INTO)
+                        numba.intp, numba.float64, numba.float64, numba.float64, numba.float64,
+                        _F2), *_CALLS_INTO)
 def slow_of(i: int, k: int, state: float, x: np.ndarray, past_x: np.ndarray,
             past_g: np.ndarray, at: np.ndarray, seen: np.ndarray, scale: np.ndarray, c0: int,
-            size: float, dims: float, onset: float) -> bool:
+            size: float, dims: float, onset: float, samples: float,
+            anchor: np.ndarray) -> bool:
     """:meth:`Validity._slow_take` of member ``i``'s template ``k`` (group index; ``state``:
     its followed state, ``mean`` clipped to the template) against the oldest sample the ring
-    keeps (before :func:`tempo` keeps this one); ``scale[k, c0:]``: its spread, at ``size``."""
+    keeps (before :func:`tempo` keeps this one), or its first state at the ``anchor`` where
+    that one precedes the attempt of ``samples`` samples with this one
+    (:func:`tempo.before_attempt`); ``scale[k, c0:]``: its spread, at ``size``."""
     w = TEMPO_SAMPLES
     if seen[i] < w or LEAST_TEMPO <= 0:
         return False
     a = at[i]
+    fresh = samples <= w   # (tempo.before_attempt)
     tot = 0.0
     for c in range(x.shape[1]):
-        r = (x[i, c] - past_x[a, i, c]) / (scale[k, c0 + c] * size)
+        r = (x[i, c] - (anchor[i, c] if fresh else past_x[a, i, c])) / (scale[k, c0 + c] * size)
         tot += r * r
     return (math.sqrt(tot / dims) >= onset
-            and abs(state - past_g[a, k]) < LEAST_TEMPO * w)
+            and abs(state - (0.0 if fresh else past_g[a, k])) < LEAST_TEMPO * w)
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
-                     _F1, numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
+                     _F1, numba.float64, _B1, _I2, _I1, _F1, _F2), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
           at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
           best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
           past_s: np.ndarray, scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
-          leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray) -> None:
+          leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray, samples: np.ndarray,
+          anchor: np.ndarray) -> None:
     """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
     :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
     (:func:`tempo.slow_take`: followed state, ``mean`` clipped to the template, against the
     oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
-    ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``), and
+    ``scale`` at its ``size``, RMS over ``dims`` columns; its first state and the ``anchor``
+    where that sample precedes the attempt of ``samples`` samples with this one,
+    :func:`tempo.before_attempt`) does not lead (``leads``), and
     ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`tempo.crawls`;
     kept while the input hovers as :func:`tempo.crawl_run` says, ``drive_k``: the action
     that last drove);
@@ -291,12 +299,14 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
         hovers = False
         if seen[i] >= w and LEAST_TEMPO > 0:
             gb = bounds[i] + best[i]
+            fresh = samples[i] <= w   # (tempo.before_attempt)
             tot = 0.0
             for c in range(x.shape[1]):
-                r = (x[i, c] - past_x[a, i, c]) / (scale[gb, c] * size[gb])
+                r = (x[i, c] - (anchor[i, c] if fresh else past_x[a, i, c])) / (scale[gb, c]
+                                                                                 * size[gb])
                 tot += r * r
             moved = math.sqrt(tot / dims[i])
-            advance = min(mean[gb], lengths[gb] - 1.0) - past_g[a, gb]
+            advance = min(mean[gb], lengths[gb] - 1.0) - (0.0 if fresh else past_g[a, gb])
             if moved >= onset and abs(advance) < LEAST_TEMPO * w:
                 leads[i] = False
                 slow = True

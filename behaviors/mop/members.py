@@ -164,7 +164,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                                        mk[:, _RAD + vectors.shape[2]:_RAD + 2 * vectors.shape[2]])
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
-                          m_floats[8], onset, m_flags[2], crawl, ints[10])
+                          m_floats[8], onset, m_flags[2], crawl, ints[10], m_floats[4],
+                          vectors[1])
     member_validity.unbegun(m_flags[11], present, vectors[0], vectors[1], vectors[5], m_flags[2])
     # ... nor in an attempt begun under way (under_way.underway)
     for i in range(present.size):

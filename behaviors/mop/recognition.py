@@ -269,7 +269,7 @@ class Recognition:
             np.maximum(self._gone, progress, out=self._gone)
             if barred != top or new[barred] or not (
                     self._shares(barred, float(g[barred]), progress)
-                    or self._slow_take(barred, g, x)[0]):
+                    or self._slow_take(barred, g, x, self._shape_n + 1)[0]):
                 self._freed, barred = barred, -1   # (barred at once if blocked again)
                 self._barred = -1
         if barred >= 0:

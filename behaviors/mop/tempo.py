@@ -36,6 +36,30 @@ tempo. 0.15: mean 0.0142, after 0.0722. Over the last 2 samples at 0.3: the zigz
 mirrored dance wrist (taken at its corner, its state parked there while the input went on) was held
 until the input's reversal sized it afresh (1.06 -> 1.36), and drove more: worst 0.239 -> 0.268.
 
+Read from where the attempt began (:func:`before_attempt`): where the sample the tempo reads lies
+before the attempt (a new gesture begun where another ended, its first :data:`TEMPO_SAMPLES`
+samples), the template is read at its first state and the input at the anchor, as from rest (a
+still input begins the attempt anew at its still samples, so there the samples before the gesture
+hold every template near its first state, up to the prior's drift at a still input, and the input
+at the anchor: a walk wrist from rest, held-out seed 103, 0.14 -> 0.11). Against the sample
+itself, the followed state kept was the attempt's that ended (the restart put every template back
+at its first state) and the input's way was the ended gesture's end: a spinkick wrist begun where
+a line ended (held-out seed 105) was best, covered, leading and probable at 0.07 of it, but its
+template had stood at state 2.05 in the line's end and at 2.24 now, 0.2 states over the window
+while the input moved on: slow two samples, recognised at 0.17 (0.14 so); the other way, a walk
+wrist begun where a kick wrist ended was taken on its first sample because its state in the kick's
+attempt, 22 states on, made the window's advance large. Held-out twenty templates back to back
+(``bench/follow_quality.py --sections=sequences``, follower, seeds 101-106, 192 gestures):
+recognised by the observer's reach + 0.05 0.349 -> 0.375 (101 .406 -> .469, 103 .250 -> .281, 106
+.469 -> .531), mean progress past the reach .0919 -> .0895, 14 gestures sooner (roll, walk,
+spinkick wrists, dance ankles, jump ankle 0.43 -> 0.38), 1 later (that walk wrist 0.12 -> 0.15);
+``bench/follow_seeds.py --sections=sized,unrelated,sequences`` seeds 101-106 and 107-112 every
+figure identical (the sooner ones were within 20% already, or still past the reach + 0.05);
+``bench/follow_quality.py``: twenty back to back by the reach + 0.05 held-out .406 -> .469 (past
+the reach .0875 -> .0858), tuned .281 -> .313 but past the reach .1012 -> .1023 (a gesture a
+stale read had let through at once, as that walk wrist), the six's option draws past the reach
+.0800 -> .0796; every other figure identical.
+
 Crawling (:func:`crawls`): an action, taken or not, stops driving once the tempo test above
 found it crawling :data:`CRAWL_SAMPLES` samples in a row; it is then taken again only at tempo.
 Taken at tempo, a template's stretch still crawls once the input leaves what it explains (a
@@ -75,6 +99,17 @@ TEMPO_SAMPLES = 10
 #: ... and the least tempo (template states per sample) at which a moving input may take it
 #: (0: no limit).
 LEAST_TEMPO = 0.3
+
+
+def before_attempt(samples: float) -> bool:
+    """Whether the oldest sample the tempo reads (:data:`TEMPO_SAMPLES` back) precedes the
+    attempt, which holds ``samples`` samples with this one (a new gesture's samples since the
+    follower began it anew: :meth:`~behaviors.mop.spotting.GestureSpotting._restart_here`).
+    There the template was at its first state and the input at the anchor, as from rest: at a
+    restart every template is put back at its first state, so its followed state kept from
+    before belongs to the attempt that ended, and the input's way there to the gesture that
+    ended (see the module docstring)."""
+    return samples <= TEMPO_SAMPLES
 
 
 def slow_take(advance: float, moved: float, onset: float) -> bool:
