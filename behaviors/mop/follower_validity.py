@@ -76,6 +76,14 @@ class Validity:
         if self._outpaces(k, g[k] - lo, x, 0) and self._outpaces(k, then[k], x_then, 1):
             return True
         past = self._tempo_past
+        # ... nor at its start while the input quickens where its template slows
+        # (speed_profile.quickens, this sample alone)
+        if speed_profile.quickens(
+                b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+                self._first_z[k], self._anchor, x, past[-speed_profile.RECENT][1],
+                past[-speed_profile.BACK][1], float(g[k] - lo), at, float(self._size[k]),
+                self.sigma):
+            return True
         return bool(speed_profile.turns_on(
             b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim), self._first_z[k],
             self._anchor, x, past[-speed_profile.RECENT][1], past[-speed_profile.BACK][1],

@@ -236,6 +236,13 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
                     tempo_g[(at[i] - speed_profile.STALL_SAMPLES - ago) % w, gb], sa, sigma):
                 waits = False
                 break
+        # ... or, at its start, the input quickens where its template slows
+        # (speed_profile.quickens, this sample)
+        waits = waits or speed_profile.quickens(
+            states[:, :d], start, length, off, tc[gb, sc0:sc0 + d], tc[gb, uf0:uf0 + d],
+            tc[gb, co0:co0 + d], anchor[i], x[i], tempo_x[(at[i] - speed_profile.RECENT) % w, i],
+            tempo_x[(at[i] - speed_profile.BACK) % w, i], min(mean[gb], length - 1.0),
+            progress[gb], size[gb], sigma)
         # ... or the input goes on off the way it turns (speed_profile.turns_on, this sample)
         out[i] = waits or speed_profile.turns_on(
             states[:, :d], start, length, off, tc[gb, sc0:sc0 + d], tc[gb, uf0:uf0 + d],
