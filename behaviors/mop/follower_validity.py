@@ -47,9 +47,10 @@ class Validity:
         if len(self._tempo_past) > tempo.TEMPO_SAMPLES:
             del self._tempo_past[0]
 
-    def _overruns(self, k: int, g: np.ndarray, x: np.ndarray) -> bool:
+    def _overruns(self, k: int, g: np.ndarray, x: np.ndarray, progress: float) -> bool:
         """Whether sample ``x`` runs on past template ``k``'s path while its progress lags
-        (:func:`behaviors.mop.overrun.overruns`; ``g``: followed states, bank index), against
+        (:func:`behaviors.mop.overrun.overruns`; ``g``: followed states, bank index;
+        ``progress``: the action's as shown, 0..1, as the group reads it), against
         the samples, followed states and sizes the tempo keeps (:meth:`_remember_tempo`);
         with "scale" invariance only (where no size is estimated, a performance at another size
         is off its path by its size: an "offset" member at 1.3x lost 16 of 59 valid ticks).
@@ -83,6 +84,14 @@ class Validity:
         if self._outpaces(k, g[k] - lo, x, 0) and self._outpaces(k, then[k], x_then, 1):
             return True
         past = self._tempo_past
+        # ... nor at its start while the input quickens where its template slows
+        # (speed_profile.quickens, this sample alone)
+        if speed_profile.quickens(
+                b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+                self._first_z[k], self._anchor, x, past[-speed_profile.RECENT][1],
+                past[-speed_profile.BACK][1], float(g[k] - lo), progress, float(self._size[k]),
+                self.sigma):
+            return True
         return bool(speed_profile.turns_on(
             b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim), self._first_z[k],
             self._anchor, x, past[-speed_profile.RECENT][1], past[-speed_profile.BACK][1],

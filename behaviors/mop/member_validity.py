@@ -223,25 +223,34 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
         # sample and the one before (speed_profile.outpaces; not counted as an overrun)
         if out[i] or seen[i] < speed_profile.BACK + 1:
             continue
+        # (over the member's own columns: speed_profile's RMS per column counts them all, and
+        # the padding past them would dilute a narrower member's speed)
+        dm = int(m[0])
+        ms, sc, uf = states[:, :dm], tc[gb, sc0:sc0 + dm], tc[gb, uf0:uf0 + dm]
+        co, an = tc[gb, co0:co0 + dm], anchor[i, :dm]
+        x_recent = tempo_x[(at[i] - speed_profile.RECENT) % w, i, :dm]
+        x_back = tempo_x[(at[i] - speed_profile.BACK) % w, i, :dm]
         waits = True
         for ago in range(2):
-            xa = x[i] if ago == 0 else tempo_x[(at[i] - 1) % w, i]
+            xa = x[i, :dm] if ago == 0 else tempo_x[(at[i] - 1) % w, i, :dm]
             ga = mean[gb] if ago == 0 else tempo_g[(at[i] - 1) % w, gb]
             sa = size[gb] if ago == 0 else tempo_s[(at[i] - 1) % w, gb]
             if not speed_profile.outpaces(
-                    states[:, :d], start, length, off, tc[gb, sc0:sc0 + d],
-                    tc[gb, uf0:uf0 + d], tc[gb, co0:co0 + d], anchor[i], xa,
-                    tempo_x[(at[i] - speed_profile.RECENT - ago) % w, i],
-                    tempo_x[(at[i] - speed_profile.BACK - ago) % w, i], min(ga, length - 1.0),
+                    ms, start, length, off, sc, uf, co, an, xa,
+                    tempo_x[(at[i] - speed_profile.RECENT - ago) % w, i, :dm],
+                    tempo_x[(at[i] - speed_profile.BACK - ago) % w, i, :dm], min(ga, length - 1.0),
                     tempo_g[(at[i] - speed_profile.STALL_SAMPLES - ago) % w, gb], sa, sigma):
                 waits = False
                 break
+        # ... or, at its start, the input quickens where its template slows
+        # (speed_profile.quickens, this sample)
+        waits = waits or speed_profile.quickens(
+            ms, start, length, off, sc, uf, co, an, x[i, :dm], x_recent, x_back,
+            min(mean[gb], length - 1.0), progress[gb], size[gb], sigma)
         # ... or the input goes on off the way it turns (speed_profile.turns_on, this sample)
         out[i] = waits or speed_profile.turns_on(
-            states[:, :d], start, length, off, tc[gb, sc0:sc0 + d], tc[gb, uf0:uf0 + d],
-            tc[gb, co0:co0 + d], anchor[i], x[i], tempo_x[(at[i] - speed_profile.RECENT) % w, i],
-            tempo_x[(at[i] - speed_profile.BACK) % w, i], min(mean[gb], length - 1.0), size[gb],
-            tempo_s[(at[i] - 1) % w, gb], sigma)
+            ms, start, length, off, sc, uf, co, an, x[i, :dm], x_recent, x_back,
+            min(mean[gb], length - 1.0), size[gb], tempo_s[(at[i] - 1) % w, gb], sigma)
     return out
 
 

@@ -320,7 +320,7 @@ class Recognition:
             slow, hovers = self._slow_take(bi, g, x)
             # ... and it is not shown valid while the input overruns its path (overrun.overruns;
             # the rules go on as if it were)
-            overran = self._overruns(bi, g, x)
+            overran = self._overruns(bi, g, x, progress_list[bi])
             # ... nor just before a straight first stroke's bend while the input goes on
             # straight (bends.unturned)
             overran = overran or bends.unturned(float(self._before_bend[int(g[bi])]),

@@ -52,6 +52,31 @@ that the spin waits for its turn. A 6, T 120: twenty templates' longest wrong ru
 4 -> 2, but six gestures within 20% 0.109 -> 0 (every drawn gesture turns in its first 30%),
 twenty 0.313 -> 0.203, sized valid after 30% 0.9070 -> 0.9053; A 3-4, T 90-120: no run shorter,
 the same losses smaller. The take comes before the turn on true spins as on circles.
+
+That left the spin's ticks *before* its turn (``bench/follow_seeds.py --sections=sequences``,
+traced per tick: 102 3, 108 5, 111 4 ticks on circles' 0.31-0.39): taken at 0.24 of itself, its
+template slowing into the turn from 0.26-0.27 (its slowest step 0.21 of its speed four states
+before at 0.277-0.289), its followed state still advancing 1-3 states a sample (over
+:data:`STALL`; on 108 its size stretching 1.12 -> 1.41), while the input on the circle
+*quickens* (1.1-1.6 times its speed over the :data:`EARLIER` samples; on true spins it slows
+with the template). So an action under :data:`QUICK_EARLY` of its progress is not shown either
+(:func:`quickens`, this sample alone) where its template slows (:data:`SLOW`) and the input,
+past its followed state, moves at least :data:`QUICKEN` times as fast as before.
+``bench/follow_seeds.py --sections=sized,unrelated,sequences``: twenty templates' longest wrong
+run 101-106 4/3/3/2/2/3 -> 4/2/3/2/2/3, 107-112 3/5/3/2/4/3 -> 3/3/3/2/2/3 (108's 3 is the
+punch ankle on a getup wrist, :mod:`~behaviors.mop.halts`); every within-20% and by-the-reach
+share, six gestures' run and sized valid after 30% at 0.7-1.4x identical on all twelve seeds,
+unrelated told worst 102 .0414 -> .0336, 103 .0540 -> .0434, 112 .0392 -> .0322.
+Its price: it also hides true ticks before 0.3 where the follower leads its performer into a
+slowing stretch at speed (``--sections=sized``, seeds 101 and 108: 1-2 ticks of waves at
+0.22-0.26, kick wrists at 0.27-0.30, a spin at 0.26, a dance ankle at 0.07-0.09; their ratios
+1.15-2.7, the circles' 1.1-1.6), none after 30%; and it hides 5-7 wrong ticks of the spin on
+each seed's sized circles. ``bench/follow_quality.py``: unrelated told worst .0534 -> .0492,
+after a gesture told worst .0721 -> .0617 (held-out .0716 -> .0664); but tuned twenty templates
+recognised by the reach + 0.05 0.281 -> 0.250 (one gesture: a run or dance wrist hidden a tick
+at 0.25-0.27, ratios 1.5-2.9), the option draws' six gestures recognition median .2555 ->
+.2594, held-out bent 10% valid after 30% .4730 -> .4719. A higher :data:`QUICKEN` does not
+separate them (true ticks hidden at 1.15-2.9, circles 1.1-1.6).
 """
 
 from __future__ import annotations
@@ -87,6 +112,11 @@ TURN_GROWN = 1.04
 #: ... at a turn the template takes moving (a loop: its slowest step there at least this share
 #: of its speed before, as :data:`SLOW` reads it), not at a stop.
 TURN_LOOP = 0.15
+#: An action under :data:`QUICK_EARLY` of its progress is not shown where its template slows
+#: (:data:`SLOW`) while the input, past its followed state, quickens to at least this share of
+#: its speed (:func:`quickens`, whatever the followed state's advance; 0: never).
+QUICKEN = 1.1
+QUICK_EARLY = 0.3
 #: The samples back :func:`outpaces` reads (the tempo's ring keeps at least these).
 BACK = RECENT + EARLIER
 
@@ -114,11 +144,11 @@ def _slowed(means, lo, off, i) -> float:
 
 
 @compiled(numba.boolean(_FA2, numba.intp, numba.intp, _FA1, _FA1, _FA1, _FA1, _FA1, _FA1, _FA1,
-                        numba.intp, numba.float64, numba.float64))
-def _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size,
-           sigma) -> bool:
+                        numba.intp, numba.float64, numba.float64, numba.float64))
+def _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size, sigma,
+           keep) -> bool:
     """Whether the template slows at state ``i`` (from its first) while the input, past it the
-    way the template came, keeps its speed (:func:`outpaces`' arguments)."""
+    way the template came, keeps ``keep`` of its speed (:func:`outpaces`' arguments)."""
     if _slowed(means, lo, off, i) >= SLOW:
         return False
     # ... the input lies past the followed state the way the template came to it
@@ -137,7 +167,7 @@ def _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, siz
         earlier += e * e
     recent = math.sqrt(recent / x.size) / RECENT
     earlier = math.sqrt(earlier / x.size) / EARLIER
-    return earlier >= MOVED * sigma and recent >= KEEP * earlier
+    return earlier >= MOVED * sigma and recent >= keep * earlier
 
 
 @compiled(numba.boolean(_FA2, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1, _FA1,
@@ -156,7 +186,8 @@ def outpaces(means, lo, n, off, scale, uf, co, anchor, x, x_recent, x_earlier, g
     i = int(math.floor(g))
     if i - SLOW_BACK < 0 or i + 1 > n - 2 or g - g_stall > STALL:
         return False
-    return _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size, sigma)
+    return _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size, sigma,
+                  KEEP)
 
 
 @compiled(numba.boolean(_FA2, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1, _FA1,
@@ -176,7 +207,8 @@ def turns_on(means, lo, n, off, scale, uf, co, anchor, x, x_recent, x_earlier, g
     i = int(math.floor(g))
     if i - SLOW_BACK < 0 or i + TURN_AHEAD > n - 1 or _slowed(means, lo, off, i) < TURN_LOOP:
         return False
-    if not _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size, sigma):
+    if not _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size, sigma,
+                  KEEP):
         return False
     dot, ss, tt = 0.0, 0.0, 0.0
     for c in range(x.size):
@@ -186,3 +218,22 @@ def turns_on(means, lo, n, off, scale, uf, co, anchor, x, x_recent, x_earlier, g
         ss += step * step
         tt += way * way
     return dot < TURNED * math.sqrt(ss * tt)
+
+
+@compiled(numba.boolean(_FA2, numba.intp, numba.intp, numba.intp, _FA1, _FA1, _FA1, _FA1,
+                        _FA1, _FA1, _FA1, numba.float64, numba.float64, numba.float64,
+                        numba.float64))
+def quickens(means, lo, n, off, scale, uf, co, anchor, x, x_recent, x_earlier, g, progress, size,
+             sigma) -> bool:
+    """Whether the input quickens where the template slows, at an action's start (``progress``
+    under :data:`QUICK_EARLY`; :func:`outpaces`' arguments but ``g_stall``): the template slows
+    at ``g`` (:data:`SLOW`) while the input, past it the way the template came, moves at least
+    :data:`QUICKEN` times as fast over the last :data:`RECENT` samples as over the
+    :data:`EARLIER` before them, however far the followed state advanced (module docstring)."""
+    if QUICKEN <= 0.0 or progress >= QUICK_EARLY:
+        return False
+    i = int(math.floor(g))
+    if i - SLOW_BACK < 0 or i + 1 > n - 2:
+        return False
+    return _keeps(means, lo, off, scale, uf, co, anchor, x, x_recent, x_earlier, i, size, sigma,
+                  QUICKEN)

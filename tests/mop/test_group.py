@@ -283,7 +283,7 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
     _step_both(alone, group, streams)
     # the rule's own effect, with nothing shown through it either (overrun: it vetoes what the
     # rule stops here, 48 valid states both with and without the rule)
-    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     n = min(len(s) for s in streams)
 
     def valid_alone() -> int:

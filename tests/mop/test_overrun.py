@@ -30,7 +30,7 @@ def test_the_figure_eight_drives_a_diagonal_less_once_the_input_overruns_it(diag
     # Measured: valid ticks (all the figure eight's) 59 of 828 with the rule, 92 without it
     f = puck_follower(gesture_templates())
     now = _valid(f, diagonals)
-    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     without = _valid(f, diagonals)
     assert sum(now) <= 0.75 * sum(without), (now, without)
     assert all(a <= b for a, b in zip(now, without)), (now, without)
@@ -44,9 +44,9 @@ def test_an_overrun_is_not_spared_once_it_began(diagonals, monkeypatch):
     now = _valid(f, diagonals)
     onset = Validity._overruns
 
-    def onset_each_sample(self, k, g, x):
+    def onset_each_sample(self, k, g, x, progress):
         self._overran_k = -1   # (no overrun remembered: every sample an onset)
-        return onset(self, k, g, x)
+        return onset(self, k, g, x, progress)
 
     monkeypatch.setattr(Validity, "_overruns", onset_each_sample)
     spared = _valid(f, diagonals)
@@ -62,7 +62,7 @@ def test_a_performed_figure_eight_is_seldom_taken_for_an_overrun(monkeypatch):
     streams = [performance(np.random.default_rng(seed), gestures["figure_eight"], sc)[0]
                for seed in range(2) for sc in SCALES]
     now = _valid(f, streams)
-    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     without = _valid(f, streams)
     lost = [b - a for a, b in zip(now, without)]
     assert min(lost) >= 0 and sum(lost) <= 4, lost

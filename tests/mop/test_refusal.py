@@ -241,9 +241,9 @@ def test_an_action_the_input_drifts_off_sample_after_sample_stops_driving(gestur
     # the overrun vetoes these ticks as well (40 both)
     onset = Validity._overruns
 
-    def onset_each_sample(self, k, g, x):
+    def onset_each_sample(self, k, g, x, progress):
         self._overran_k = -1
-        return onset(self, k, g, x)
+        return onset(self, k, g, x, progress)
 
     monkeypatch.setattr(Validity, "_overruns", onset_each_sample)
     now = _valid_after(gestures)

@@ -36,7 +36,7 @@ def test_an_action_finished_short_of_its_end_hands_over(wave_then_run, monkeypat
     # from where the wave ended; without it the wave drove the run's first 5 samples backwards
     # (the end at the wave's tempo, handover.tempo_ended, left out: it ends the wave too)
     # (nothing vetoed as an overrun either: overrun.overruns takes these samples too)
-    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     every, states = _wrong_run(*wave_then_run)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     on, _ = _wrong_run(*wave_then_run)
@@ -124,7 +124,7 @@ def test_an_action_followed_at_a_crawl_past_its_finish_hands_over(dance_then_pun
     # with the last samples' fit, take_rule.TAKE_MISFIT2, lifted: with it neither drives them)
     monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     # (nothing vetoed as an overrun either: overrun.overruns takes these samples too)
-    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     everything, x, truth, prog, order = dance_then_punch
     begin = truth.index(order[2])   # over the dance and the punch (the kick's end is another)
 

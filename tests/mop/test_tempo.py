@@ -28,7 +28,8 @@ def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
     # overrun (overrun.overruns takes these ticks too)
     from behaviors.mop import follower_validity, tempo, validity
 
-    monkeypatch.setattr(follower_validity.Validity, "_overruns", lambda self, k, g, x: False)
+    monkeypatch.setattr(follower_validity.Validity, "_overruns",
+                        lambda self, k, g, x, progress: False)
     now = _crawl_shares(gestures)
     monkeypatch.setattr(tempo, "LEAST_TEMPO", 0.0)
     monkeypatch.setattr(validity, "LEAST_TEMPO", 0.0)
