@@ -84,3 +84,11 @@ def test_the_compiled_outline_adds_what_the_seven_pygame_passes_did(rim):
     a, b = rgb(compiled).astype(int), rgb(passes).astype(int)
     assert np.abs(a - b).max() == 0 and np.abs(a - ground.transpose(1, 0, 2)).max() > 100
     assert rgb(light._scratch).max() == 0
+
+
+def test_the_outline_kernel_is_warmed_as_surfaces_give_their_pixels():
+    """Warmed on row-major arrays, the first hint of a run loaded a second version of the
+    kernel from the cache (2 versions after a run; 33-58 ms in that frame, examples/mop.yaml)."""
+    from tabletop.drawing import outline_kernel
+    drawn(True)
+    assert len(outline_kernel.add_outline.signatures) == 1, outline_kernel.add_outline.signatures
