@@ -66,7 +66,7 @@ PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
 	 for n in ('circle', 'zigzag') for s in (0.7, 1.4)]; \
 	from behaviors.kernel_cache import load, PENDING; load(*PENDING)
 BUILD_KERNELS = \
-	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
+	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel, outline_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel, outline_kernel)]" & view=$$!; \
 	$(PY) -c "$(PM_AND_BENCH)" & pm=$$!; \
 	$(PY) -c "$(MOP_STEPS)" && wait $$view && wait $$pm && touch $(KERNELS) \
 	&& { $(PY) -m behaviors.kernel_prune || true; }

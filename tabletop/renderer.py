@@ -16,7 +16,7 @@ import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
-from tabletop.drawing import panel_room, see_through  # noqa: E402
+from tabletop.drawing import outline_kernel, panel_room, see_through  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.light import (HINT_SHOWN, AddedLight, as_points, hint_label,  # noqa: E402
@@ -88,6 +88,7 @@ class Renderer:
         dirty.warm()
         pucks.warm()
         pose_kernel.warm()
+        outline_kernel.warm()
         self.map = TableToScreen(table, size, margin, homography)
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}

