@@ -168,6 +168,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._tvel, self._v0 = template_velocities(templates, self.bank, TANGENT_LAG)
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
+        # the unit offset the overrun and speed-profile rules read: none for a follower alone
+        # (a group member's is its columns'); made once, read only
+        self._no_offset = np.zeros(self.bank.dim)
         moves = Transitions(tuple(transitions), backward, restart, float(dwell))
         fb = self._fbank   # its states stretched along fast stretches (behaviors.mop.stretch)
         self.forward = WindowedForward(fb, sigma=sigma, half_window=int(window),

@@ -70,7 +70,7 @@ class Validity:
         straight = (self._turn is not None and self._waits[j] > 0.0
                     and bends.unspared(self._turn_in, at))
         out = bool(overrun.overruns(
-            b.means, self._arc, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+            b.means, self._arc, lo, int(b.lengths[k]), 0, b.scale[k], self._no_offset,
             self._first_z[k], self._anchor, x, x_rise, x_pace, float(g[k] - lo),
             float(g_rise[k]), float(g_pace[k]), float(self._size[k]), float(s_pace[k]),
             self.sigma ** 2 * self.dim, float(self.dim), held, not straight))
@@ -87,13 +87,13 @@ class Validity:
         # ... nor at its start while the input quickens where its template slows
         # (speed_profile.quickens, this sample alone)
         if speed_profile.quickens(
-                b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+                b.means, lo, int(b.lengths[k]), 0, b.scale[k], self._no_offset,
                 self._first_z[k], self._anchor, x, past[-speed_profile.RECENT][1],
                 past[-speed_profile.BACK][1], float(g[k] - lo), progress, float(self._size[k]),
                 self.sigma):
             return True
         return bool(speed_profile.turns_on(
-            b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim), self._first_z[k],
+            b.means, lo, int(b.lengths[k]), 0, b.scale[k], self._no_offset, self._first_z[k],
             self._anchor, x, past[-speed_profile.RECENT][1], past[-speed_profile.BACK][1],
             float(g[k] - lo), float(self._size[k]), float(past[-1][2][k]), self.sigma))
 
@@ -104,7 +104,7 @@ class Validity:
         b, past = self.bank, self._tempo_past
         lo = int(b.starts[k])
         return bool(speed_profile.outpaces(
-            b.means, lo, int(b.lengths[k]), 0, b.scale[k], np.zeros(self.dim),
+            b.means, lo, int(b.lengths[k]), 0, b.scale[k], self._no_offset,
             self._first_z[k], self._anchor, x, past[-speed_profile.RECENT - ago][1],
             past[-speed_profile.BACK - ago][1], float(g),
             float(past[-speed_profile.STALL_SAMPLES - ago][0][k]),
