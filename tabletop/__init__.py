@@ -13,4 +13,9 @@ import os  # noqa: E402
 # an explicit setting in the environment wins.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+# numba, when a command loads it, started without importing SciPy (behaviors/numba_start.py)
+from behaviors import numba_start  # noqa: E402
+
+numba_start.install()
+
 __version__ = "0.1.0"

@@ -1,5 +1,6 @@
 """Compiled kernels load when an engine that calls them is built: not when their modules are
-imported (``tabletop`` commands, a kiosk's restart), and not on the engine's first step."""
+imported (``tabletop`` commands, a kiosk's restart), and not on the engine's first step; and
+loading them imports neither SciPy nor OpenCV where the installation has no use for them."""
 
 from __future__ import annotations
 
@@ -49,8 +50,24 @@ print(json.dumps({"built": len(built), "stepped": len(kernel_cache.PENDING),
 """
 
 
-def _run(script: str) -> dict:
-    out = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True,
+RUN_SCRIPTED = """
+import json, sys
+import numpy as np
+from tabletop import cli
+code = cli.main(["run", "--config", sys.argv[1], "--headless", "--seconds", "0.3"])
+imported = sorted({m.split(".")[0] for m in sys.modules} & {"scipy", "cv2"})
+loaded = "numba.np.arraymath" in sys.modules
+import numba
+@numba.njit
+def dot(a, b):
+    return np.dot(a, b)
+print(json.dumps({"code": code, "imported": imported, "loaded": loaded,
+                  "dot": dot(np.ones(3), np.arange(3.0))}))
+"""
+
+
+def _run(script: str, *args: str) -> dict:
+    out = subprocess.run([sys.executable, "-c", script, *args], cwd=ROOT, capture_output=True,
                          text=True, timeout=120)
     assert out.returncode == 0, out.stderr[-2000:]
     return json.loads(out.stdout.splitlines()[-1])
@@ -68,3 +85,22 @@ def test_an_engine_built_loads_the_kernels_its_steps_call_none_on_the_steps():
     assert found["loaded"] == []
     # what the steps' own kernels call is in their code: most of them never load
     assert found["stepped"] == found["built"] >= 50
+
+
+def test_a_run_without_a_camera_imports_neither_scipy_nor_opencv(tmp_path):
+    """A run with the Puppet Master and the view, its pucks scripted: its kernels loaded (numba's
+    array functions in), yet neither SciPy, which numba imported only to look at (0.3 of the
+    run's 1.5 CPU s start; behaviors/numba_start.py), nor OpenCV, imported to check the default
+    marker dictionary (0.06 s). A kernel calling np.dot still compiles after (numba imports
+    SciPy's BLAS then)."""
+    cfg = tmp_path / "scripted.yaml"
+    cfg.write_text(f"""sources: [{{kind: scripted, pucks: [1, 2]}}]
+engines:
+  - {{kind: puppet_master, name: lover, behavior: {ROOT}/behaviors/library/lover,
+     main: {{puck: 1}}}}
+view: {{size: [320, 180]}}
+""")
+    found = _run(RUN_SCRIPTED, str(cfg))
+    assert found["code"] == 0 and found["loaded"]
+    assert found["imported"] == []
+    assert found["dot"] == 3.0

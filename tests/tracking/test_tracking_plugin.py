@@ -15,6 +15,8 @@ def test_defaults_and_bad_values_name_the_key():
     o = plugin.complete({})
     assert o["coast_s"] == 0.5 and o["reacquire_step_m"] == 0.01
     assert o["dictionary"] == "DICT_4X4_50"
+    import cv2    # (the default is taken without asking OpenCV: it must be one of its names)
+    assert isinstance(getattr(cv2.aruco, o["dictionary"]), int)
     with pytest.raises(ConfigError, match="tracking.dictionary"):
         plugin.complete({"dictionary": "DICT_NOPE"})
     with pytest.raises(ConfigError, match="tracking.coast_s"):
