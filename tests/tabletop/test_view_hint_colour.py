@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pygame
 import pytest
-from scipy import ndimage
 
 from tabletop.drawing.palette import TABLE as TABLE_RGB, vivid
 from tabletop.frames import CharacterState, Frame
@@ -89,6 +88,7 @@ def test_a_hint_keeps_its_characters_hue_and_is_fainter_than_it_acting(color):
 
 
 def test_a_hinted_figures_eyes_are_faint_not_dark_holes():
+    from scipy import ndimage   # (not at the top: each test worker imports every module)
     r, img = drawn((240, 170, 60), 1.0)
     px = r.map.points(BODY + AWAY)
     x0, y0 = (px.min(axis=0) - 40).astype(int)

@@ -5,7 +5,6 @@ acting is drawn whole. Measured on real surfaces drawn by the renderer."""
 import numpy as np
 import pygame
 import pytest
-from scipy import ndimage
 
 from tabletop.frames import CharacterState, Frame
 from tabletop.view import Renderer
@@ -46,6 +45,7 @@ def solid_share(light: np.ndarray) -> float:
     """Of a figure's silhouette (its light above 40 of 765, holes filled), the share lit at
     least half as much as its brightest tenth: near 1 for a figure drawn whole, low for one
     drawn as its outline."""
+    from scipy import ndimage   # (not at the top: each test worker imports every module)
     inside = ndimage.binary_fill_holes(light > 40)
     strong = np.percentile(light[inside], 90)
     return float((light[inside] >= 0.5 * strong).mean())

@@ -14,7 +14,6 @@ from typing import Callable
 import numpy as np
 import pygame
 import pytest
-from scipy import ndimage
 
 from tabletop.drawing.reading import Reading
 from tabletop.frames import CharacterState, Frame, Puck
@@ -84,6 +83,7 @@ def overlap(a: np.ndarray, b: np.ndarray) -> float:
     """Intersection over union of two masks of one size, each word (a patch of pixels with
     under 6 px between them) taken at its best shift within 1 px: a word centred on the
     window's middle, which falls between two pixels, mirrors to 1 px beside it."""
+    from scipy import ndimage   # (not at the top: each test worker imports every module)
     groups, n = ndimage.label(ndimage.binary_dilation(a | b, iterations=6))
     inter = union = 0
     for box in ndimage.find_objects(groups):
