@@ -181,6 +181,8 @@ class WindowedForward:
         mean is followed from there: its main window's whole probability on that state
         (:func:`~behaviors.mop.holding.rested_sizes`), marked in ``seated`` (K,). ``states`` is
         cleared to -1."""
+        if states.max() < 0.0:   # none (all -1 already): one numpy call instead of four
+            return
         for j in np.flatnonzero(states > self.mean).tolist():
             h = int(states[j])
             lo = int(min(max(h - self.half_window, 0), self._max_lo[j]))

@@ -223,11 +223,10 @@ class FollowerGroup(GroupArrays, GroupRules):
         group_steps.map_inputs(new, self._anchor, self._tc, self._mc, self._size, self._k_first,
                                self._bounds, self._counts, self._z)
         fw = self.forward
-        path_distances(self._z, fw.bank.means, fw.bank.starts, fw.bank.lengths, fw.mean,
-                       self._evidence, self._refused, self._bounds, self._counts, self._off_dims,
-                       self._best, self._near2, REACH_BACK, REACH_AHEAD)
-        np.greater(self._near2, self._off_limit2, out=self._off)
-        return bool((self._off & ~self._jumped & ~self._strayed).any())
+        return path_distances(self._z, fw.bank.means, fw.bank.starts, fw.bank.lengths, fw.mean,
+                              self._evidence, self._refused, self._bounds, self._counts,
+                              self._off_dims, self._best, self._near2, REACH_BACK, REACH_AHEAD,
+                              self._off_limit2, self._off, self._jumped, self._strayed)
 
     def _owner_of(self, members: list[int] | np.ndarray | slice) -> np.ndarray:
         """Which templates (K,) belong to ``members`` (indices, a mask or a slice of the
@@ -296,9 +295,6 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._m_likely_v, self._lengths, self._tempo_x, self._tempo_g, self._tempo_s,
             f0.onset * f0.sigma,
             self._tc, self._mc, self._taken, take_rule.TAKE_MISFIT2, self._end_history)
-        # not shown just before a straight stroke's bend while the input went on straight
-        # (bends.unturned: the rules went on as if it were)
-        self._m_flags[0] &= ~self._bend_hidden
         progress = self._k_progress
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays

@@ -66,7 +66,7 @@ MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
                 "_tempo_on", "_abandoned", "_abandon_rested", "_lagged", "_underway",
                 "_underway_rested", "_has_unseen", "_straight", "_end_nearing", "_begun_at_return",
-                "_end_returned")
+                "_end_returned", "_bend_hidden")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -388,3 +388,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                               any_engaged[i], unseen, off_rest)
     member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
     member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)
+    # not shown just before a straight stroke's bend while the input went on straight
+    # (bends.unturned: the rules went on as if it were); here rather than as two numpy calls
+    # after this pass (see glitch.path_distances for what these fusions saved)
+    for i in range(present.size):   # (m_flags[21]: _bend_hidden)
+        out_flags[0, i] = out_flags[0, i] and not m_flags[21, i]

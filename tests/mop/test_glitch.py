@@ -139,3 +139,32 @@ def test_a_group_holds_a_moderate_glitch_as_its_follower_alone(gestures):
     assert min(valid[:3]) >= 40   # without the rule: 24, 14 and 0
     assert [f.glitches for f in group.followers] == [f.glitches for f in alone]
     assert [f.glitches for f in alone[:3]] == [1, 1, 1]
+
+
+def test_group_path_distances_mark_the_members_off_their_paths_and_answer_for_a_glitch():
+    # the group's numpy calls after path_distances (off = beyond the limit; a glitch: off, not
+    # held the tick before, not strayed) made inside it: the same answers on random members
+    from behaviors.mop.glitch import REACH_AHEAD, REACH_BACK, path_distances
+    rng = np.random.default_rng(3)
+    m, k, n, d = 6, 4, 20, 2
+    means = rng.normal(size=(m * k * n, d))
+    starts = np.arange(0, m * k * n, n, dtype=np.intp)
+    lengths = np.full(m * k, n, dtype=np.intp)
+    bounds, counts = np.arange(0, m * k, k, dtype=np.intp), np.full(m, k, dtype=np.intp)
+    answers = set()
+    for _ in range(40):
+        z = rng.normal(scale=2.0, size=(m * k, d))
+        mean = rng.uniform(0, n - 1, size=m * k)
+        evidence = rng.normal(size=m * k)
+        refused = rng.random(m * k) < 0.2
+        best = rng.integers(-1, k, size=m).astype(np.intp)
+        limit2 = rng.uniform(0.0, 2.0, size=m)
+        held, strayed = rng.random(m) < 0.3, rng.random(m) < 0.3
+        out, off = np.empty(m), np.zeros(m, dtype=bool)
+        glitch = path_distances(z, means, starts, lengths, mean, evidence, refused, bounds,
+                                counts, np.full(m, d, dtype=np.intp), best, out, REACH_BACK,
+                                REACH_AHEAD, limit2, off, held, strayed)
+        assert np.array_equal(off, out > limit2)
+        assert glitch == bool((off & ~held & ~strayed).any())
+        answers.add(glitch)
+    assert answers == {True, False}
