@@ -5,7 +5,6 @@ with the action's name above it, so that it reads as a hint, not as a second cha
 
 from __future__ import annotations
 
-import dataclasses
 from typing import Callable
 
 import numpy as np
@@ -13,7 +12,7 @@ import pygame
 
 from tabletop.drawing import outline_kernel, raster, screens
 from tabletop.drawing.characters import Pose
-from tabletop.drawing.palette import Color, lighten, vivid
+from tabletop.drawing.palette import Color, lighten, remember, vivid
 from tabletop.drawing.reading import Reading
 
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
@@ -35,8 +34,24 @@ def hinted_pose(pose: Pose, color: Color, hint: float) -> Pose:
     warm and pale characters (the bird's: CIELAB chroma 1.8, its hue 72 degrees off); saturated
     its hue stays within 24 degrees of the character's and it is fainter than the character
     acting (luminance 2.0 to 2.8 times lower at probability 1, 1.6 before)."""
-    return dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * hint, light=0.0,
-                               color=vivid(tuple(color), 1.0, 0.8, 0.8), ground=(0, 0, 0))
+    # (made positionally, its colour remembered: dataclasses.replace and the colour's HSV
+    # round trip each frame were most of the hint's own Python)
+    p = pose
+    return Pose(p.center, p.angle, p.ppm, p.alpha * HINT_ALPHA * hint, p.scale, p.breath,
+                p.stretch, p.motion, p.blink, p.gaze, hint_color(color), p.phase, 0.0, (0, 0, 0))
+
+
+_hint_colors: dict[tuple, Color] = {}
+
+
+def hint_color(color: Color) -> Color:
+    """A hinted pose's colour: the character's ``color`` at full value and saturation 0.8
+    (remembered)."""
+    key = tuple(color)
+    out = _hint_colors.get(key)
+    if out is None:
+        out = remember(_hint_colors, key, vivid(key, 1.0, 0.8, 0.8), 256)
+    return out
 
 
 def hint_rim(window: tuple[int, int]) -> int:
@@ -122,7 +137,7 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
     W, H = window
     px = max(13, round(HINT_LABEL_PX * min(W, H) / 720))   # (11 px at 800x600 was not read)
     line = action.replace("_", " ") + "?"
-    ink = lighten(vivid(tuple(color), 1.0, 0.8, 0.8), 0.3)
+    ink = lighten(hint_color(color), 0.3)
     img = screens.turned_line(line, px, ink, reading)
     up = (around.h if reading.up[1] else around.w) / 2 + 4
     at = reading.at(img.get_size(), reading.offset(around.center, up=up), (0.5, 1.0))
@@ -130,8 +145,18 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
         below = reading.at(img.get_size(), reading.offset(around.center, up=-up), (0.5, 0.0))
         at = below if table.contains(below) else at
     at = at.clamp(table if table.w >= at.w and table.h >= at.h else pygame.Rect(0, 0, W, H))
-    # its own copy: blitted after every character, two hints of one name and colour sharing
-    # the kept render would both show the alpha set last
-    img = img.copy()
-    img.set_alpha(int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0))))
-    return img, at
+    # a copy per alpha: blitted after every character, two hints of one name and colour
+    # sharing the kept render showed both at the alpha set last; kept, as the same few alphas
+    # recur (a hint at its strength, frame after frame: copy + set_alpha each frame were
+    # a third of hint_label's time)
+    alpha = int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0)))
+    key = (id(img), alpha)
+    kept = _names.get(key)
+    if kept is None or kept[0] is not img:
+        copy = img.copy()
+        copy.set_alpha(alpha)
+        kept = remember(_names, key, (img, copy), 256)
+    return kept[1], at
+
+
+_names: dict[tuple[int, int], tuple[pygame.Surface, pygame.Surface]] = {}
