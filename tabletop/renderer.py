@@ -190,6 +190,7 @@ class Renderer:
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
         self._hint_labels = []
+        self._light.begin()
         for p, place in zip(prs, self._places(prs, frame).tolist()):
             r = self._draw_presence(target, p, frame, place)
             drawn.append(r)
@@ -319,7 +320,8 @@ class Renderer:
                 # character's own (lively) colour, casting no glow, outlined and named
                 ghost = hinted_pose(pose, c.color, pr.hint)
                 hinted = self._light.add(target, lambda s: self._draw_points(
-                    s, c, ghost, pr.hint_points), hint_rim(target.get_size()))
+                    s, c, ghost, pr.hint_points), hint_rim(target.get_size()), c.name,
+                    pr.hint_points)
                 if hinted is not None and pr.hint_action:
                     label = hint_label(target.get_size(), pr.hint_action, hinted, c.color,
                                        pr.hint, self.map.reading(), self._table_rect())

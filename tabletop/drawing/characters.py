@@ -228,9 +228,12 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     # strength fades in): one cached light per figure. It lies about the figure's points, as a
     # face's about its head's: about their bounding box, an arm stretched out (a touch-posed
     # hand dragged away) pulled it over the empty table beside the body.
-    mx, my = (np.add.reduce(pts, axis=0) / len(pts)).tolist()   # (= mean, faster)
-    touched = P.glow(surf, (mx, my), glow_radius("figure", c.size, pose.ppm), pose.color,
-                     0.26 * pose.alpha * pose.light)
+    strength = 0.26 * pose.alpha * pose.light
+    touched = None
+    if strength > P.GLOW_SHOWN:       # (a hinted pose casts none: its points' mean not taken)
+        mx, my = (np.add.reduce(pts, axis=0) / len(pts)).tolist()   # (= mean, faster)
+        touched = P.glow(surf, (mx, my), glow_radius("figure", c.size, pose.ppm), pose.color,
+                         strength)
     topo = topology(len(pts), c.bones)
     w0 = max(1.5, _WIDTHS.get(c.kind, 0.045) * fig)
     _, dark, _, _, body, light, _, white, ink = inks(pose.color, pose.alpha, pose.ground)

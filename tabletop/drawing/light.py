@@ -5,7 +5,6 @@ with the action's name above it, so that it reads as a hint, not as a second cha
 
 from __future__ import annotations
 
-import dataclasses
 from typing import Callable
 
 import numpy as np
@@ -13,7 +12,7 @@ import pygame
 
 from tabletop.drawing import outline_kernel, raster, screens
 from tabletop.drawing.characters import Pose
-from tabletop.drawing.palette import Color, lighten, vivid
+from tabletop.drawing.palette import Color, lighten, remember, vivid
 from tabletop.drawing.reading import Reading
 
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
@@ -35,8 +34,24 @@ def hinted_pose(pose: Pose, color: Color, hint: float) -> Pose:
     warm and pale characters (the bird's: CIELAB chroma 1.8, its hue 72 degrees off); saturated
     its hue stays within 24 degrees of the character's and it is fainter than the character
     acting (luminance 2.0 to 2.8 times lower at probability 1, 1.6 before)."""
-    return dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * hint, light=0.0,
-                               color=vivid(tuple(color), 1.0, 0.8, 0.8), ground=(0, 0, 0))
+    # (made positionally, its colour remembered: dataclasses.replace and the colour's HSV
+    # round trip each frame were most of the hint's own Python)
+    p = pose
+    return Pose(p.center, p.angle, p.ppm, p.alpha * HINT_ALPHA * hint, p.scale, p.breath,
+                p.stretch, p.motion, p.blink, p.gaze, hint_color(color), p.phase, 0.0, (0, 0, 0))
+
+
+_hint_colors: dict[tuple, Color] = {}
+
+
+def hint_color(color: Color) -> Color:
+    """A hinted pose's colour: the character's ``color`` at full value and saturation 0.8
+    (remembered)."""
+    key = tuple(color)
+    out = _hint_colors.get(key)
+    if out is None:
+        out = remember(_hint_colors, key, vivid(key, 1.0, 0.8, 0.8), 256)
+    return out
 
 
 def hint_rim(window: tuple[int, int]) -> int:
@@ -52,6 +67,32 @@ def as_points(hint: tuple[Pose, np.ndarray] | None) -> tuple[Pose, np.ndarray] |
     return hint[0], np.ascontiguousarray(hint[1], dtype=np.float64).reshape(-1, 2)
 
 
+# A hint's outlined light is kept and added again (one additive blit) in the next frame when
+# its points are the very same object, instead of being painted and outlined again: the MOP
+# engine ticks at 30 Hz and the view at 60 (examples/mop.yaml, 10 s headless: 394 of 833
+# hints drawn, 47 %, had the points of the frame before; 205 of 446 at 31 fps under load). It
+# shows the pose's fade and breath of the frame before, once: the next frame paints again (a
+# hint keeps its points while it fades out: kept longer, its fade stood still). Kept from a
+# character's first repeat on (a hint whose points are new every frame, bench/view.py's, pays
+# nothing); let go after KEEP_OFF frames in a row of new points. Same-opacity repeats only
+# (its inks' 1/128 steps) were 24 of those 205: the strength moves every frame.
+KEEP_OFF = 3
+
+
+class _Kept:
+    """One hinted character's light: the points it was drawn from, and while kept, the light
+    (its outline, black elsewhere, the view's size) and where it lies."""
+
+    def __init__(self, points: object) -> None:
+        self.points = points
+        self.again = False            # the kept light was added again once
+        self.on = False               # keeping (its points were seen twice)
+        self.light: pygame.Surface | None = None
+        self.rect: pygame.Rect | None = None
+        self.new = 0                  # frames in a row drawn from new points
+        self.used = True              # drawn in the view's last frame
+
+
 class AddedLight:
     """A black scratch surface the size of the view: what is drawn on it is added onto the
     view. Painted over the table with the character's inks faded toward the table's colour, a
@@ -61,13 +102,51 @@ class AddedLight:
     def __init__(self) -> None:
         self._scratch: pygame.Surface | None = None
         self._eroded: pygame.Surface | None = None    # the outline's work (:meth:`_outline`)
+        self._kept: dict[str, _Kept] = {}             # by character (:data:`KEEP_OFF`)
+        self._spare: list[pygame.Surface] = []        # kept lights let go, to use again
+
+    def begin(self) -> None:
+        """A new frame of the view: the lights of characters not drawn in the last are let go."""
+        for k in [k for k, v in self._kept.items() if not v.used]:
+            self._let_go(self._kept.pop(k))
+        for v in self._kept.values():
+            v.used = False
+
+    def _let_go(self, kept: _Kept) -> None:
+        """``kept``'s light surface kept for another character's (a view-sized surface made
+        anew touches 3.7 MB at 1280x720: its first paint cost ~0.5 ms more, mop.yaml's hints
+        coming and going)."""
+        if kept.light is not None and len(self._spare) < 4:
+            self._spare.append(kept.light)
+        kept.light, kept.rect = None, None
 
     def add(self, target: pygame.Surface,
             paint: Callable[[pygame.Surface], pygame.Rect | None],
-            rim: int = 0) -> pygame.Rect | None:
+            rim: int = 0, key: str | None = None, points: object = None) -> pygame.Rect | None:
         """What ``paint`` draws on black (a pose faded toward black, ``Pose.ground``), added
         onto ``target``; ``rim`` > 0: only its outline, ``rim`` px wide, whole, and its inside
-        at :data:`HINT_FILL` (:meth:`_outline`). Returns the rectangle it touched there."""
+        at :data:`HINT_FILL` (:meth:`_outline`). Given a ``key`` (the character) and the
+        ``points`` it is drawn from, the light is added again in the next frame drawn from the
+        same points (:data:`KEEP_OFF`). Returns the rectangle it touched there."""
+        kept = None
+        if key is not None:
+            kept = self._kept.get(key)
+            if kept is None:
+                kept = self._kept[key] = _Kept(points)
+            elif points is kept.points:
+                kept.new = 0
+                if (kept.rect is not None and not kept.again
+                        and kept.light.get_size() == target.get_size()):
+                    target.blit(kept.light, kept.rect, kept.rect, pygame.BLEND_RGB_ADD)
+                    kept.used = kept.again = True
+                    return kept.rect.copy()
+                kept.on = True           # the same points again, nothing kept: keep from now
+            else:
+                kept.points, kept.new = points, kept.new + 1
+                if kept.new >= KEEP_OFF:
+                    kept.on = False
+                    self._let_go(kept)
+            kept.used, kept.rect, kept.again = True, None, False
         scratch = self._scratch
         if scratch is None or scratch.get_size() != target.get_size():
             scratch = self._scratch = pygame.Surface(target.get_size(), 0, target)
@@ -80,11 +159,27 @@ class AddedLight:
             r = r.inflate(2 * rim + 2, 2 * rim + 2).clip(target.get_rect())
         into, out = raster.pixels(target), raster.pixels(scratch)
         if into is not None and out is not None and into[1].tolist() == out[1].tolist():
+            keep = int(round(255 * (1.0 - HINT_FILL)))
+            if kept is not None and kept.on:
+                # what is added also kept (the same pixels added again: the add saturates
+                # alike; outlined onto black and blitted, a paint cost 0.15-0.2 ms more)
+                light = kept.light
+                while light is None and self._spare:
+                    light = kept.light = self._spare.pop()
+                if light is None or light.get_size() != target.get_size():
+                    light = kept.light = pygame.Surface(target.get_size(), 0, target)
+                light.fill((0, 0, 0), r)
+                lit = raster.pixels(light)
+                if lit is not None:
+                    outline_kernel.add_outline(out[0], into[0], out[1], r.left, r.top, r.right,
+                                               r.bottom, rim, keep, lit[0], True)
+                    kept.rect = r.copy()
+                    return r
             # one compiled pass over the lit pixels, the same pixels as :meth:`_outline`'s
             # seven passes and the add: bench/view.py's hinted scene (3 hints, 1280x720)
             # 0.46 ms less draw CPU per frame (paired median, 7.25 -> 6.82 ms)
             outline_kernel.add_outline(out[0], into[0], out[1], r.left, r.top, r.right,
-                                       r.bottom, rim, int(round(255 * (1.0 - HINT_FILL))))
+                                       r.bottom, rim, keep, into[0], False)
             return r
         if rim > 0:
             self._outline(scratch, r, rim)
@@ -122,7 +217,7 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
     W, H = window
     px = max(13, round(HINT_LABEL_PX * min(W, H) / 720))   # (11 px at 800x600 was not read)
     line = action.replace("_", " ") + "?"
-    ink = lighten(vivid(tuple(color), 1.0, 0.8, 0.8), 0.3)
+    ink = lighten(hint_color(color), 0.3)
     img = screens.turned_line(line, px, ink, reading)
     up = (around.h if reading.up[1] else around.w) / 2 + 4
     at = reading.at(img.get_size(), reading.offset(around.center, up=up), (0.5, 1.0))
@@ -130,8 +225,18 @@ def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color:
         below = reading.at(img.get_size(), reading.offset(around.center, up=-up), (0.5, 0.0))
         at = below if table.contains(below) else at
     at = at.clamp(table if table.w >= at.w and table.h >= at.h else pygame.Rect(0, 0, W, H))
-    # its own copy: blitted after every character, two hints of one name and colour sharing
-    # the kept render would both show the alpha set last
-    img = img.copy()
-    img.set_alpha(int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0))))
-    return img, at
+    # a copy per alpha: blitted after every character, two hints of one name and colour
+    # sharing the kept render showed both at the alpha set last; kept, as the same few alphas
+    # recur (a hint at its strength, frame after frame: copy + set_alpha each frame were
+    # a third of hint_label's time)
+    alpha = int(round(255 * min(max(LABEL_GAIN * strength, 0.0), 1.0)))
+    key = (id(img), alpha)
+    kept = _names.get(key)
+    if kept is None or kept[0] is not img:
+        copy = img.copy()
+        copy.set_alpha(alpha)
+        kept = remember(_names, key, (img, copy), 256)
+    return kept[1], at
+
+
+_names: dict[tuple[int, int], tuple[pygame.Surface, pygame.Surface]] = {}

@@ -21,12 +21,16 @@ _JIT = dict(cache=True, nogil=True)
 
 @numba.njit(**_JIT)
 def add_outline(scratch: np.ndarray, target: np.ndarray, fmt: np.ndarray, x0: int, y0: int,
-                x1: int, y1: int, rim: int, keep: int) -> None:
+                x1: int, y1: int, rim: int, keep: int, kept: np.ndarray,
+                keeping: bool) -> None:
     """Add ``scratch``'s light in x0..x1-1, y0..y1-1 (px) onto ``target`` (both 32-bit pixels
     indexed ``[x, y]``, of format ``fmt``: red, green, blue shifts) cut to its outline: each
     channel less ``keep``/256 of its least over its four neighbours ``rim`` px away (``rim``
     0: added whole), rounded as pygame's multiplying fill and saturating blits round; the
-    scratch's red, green and blue in the rectangle are black after."""
+    scratch's red, green and blue in the rectangle are black after. ``keeping``: what is
+    added is also written into ``kept`` (pixels as ``target``'s, black in the rectangle
+    before), so that adding it again adds the same (:class:`tabletop.drawing.light.AddedLight`
+    keeps a hint's light)."""
     W, H = scratch.shape[0], scratch.shape[1]
     rs, gs, bs = np.uint32(fmt[0]), np.uint32(fmt[1]), np.uint32(fmt[2])
     ff = np.uint32(255)
@@ -45,15 +49,19 @@ def add_outline(scratch: np.ndarray, target: np.ndarray, fmt: np.ndarray, x0: in
             left = row[x - rim] if x >= rim else lit
             right = row[x + rim] if x + rim < W else lit
             u, d, t = up[x], down[x], into[x]
-            out = np.uint32(0)
+            out = added = np.uint32(0)
             for sh in (rs, gs, bs):
                 m = min(min((left >> sh) & ff, (right >> sh) & ff),
                         min((u >> sh) & ff, (d >> sh) & ff))
                 m = (m * k + ff) >> np.uint32(8) if m > 0 else np.uint32(0)
                 c = (s >> sh) & ff
-                v = ((t >> sh) & ff) + (c - m if c > m else np.uint32(0))
+                a = c - m if c > m else np.uint32(0)
+                v = ((t >> sh) & ff) + a
                 out |= (v if v < ff else ff) << sh
+                added |= a << sh
             into[x] = (t & unlit) | out
+            if keeping:
+                kept[x, y] = (kept[x, y] & unlit) | added
         if y - rim >= y0:          # no row below needs this one's light any more
             _black(scratch[x0:x1, y - rim], unlit)
     for y in range(max(y0, y1 - rim), y1):
@@ -73,5 +81,5 @@ def warm() -> None:
     frame (examples/mop.yaml, headless)."""
     px = np.zeros((8, 8), dtype=np.uint32).T
     px[3:5, 3:5] = 0x808080
-    add_outline(px, np.zeros((8, 8), dtype=np.uint32).T, np.array([16, 8, 0, -1]), 0, 0, 8, 8,
-                1, 204)
+    into = np.zeros((8, 8), dtype=np.uint32).T
+    add_outline(px, into, np.array([16, 8, 0, -1]), 0, 0, 8, 8, 1, 204, into, False)

@@ -173,10 +173,13 @@ class Parts(pygame.Rect):
     parts: list[pygame.Rect]
 
 
+GLOW_SHOWN = 0.02        # a glow of this strength or less is not drawn
+
+
 def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
          strength: float) -> Disc | None:
     """Add a soft light of ``radius`` pixels around ``c``; returns the rectangle touched."""
-    if strength <= 0.02 or radius < 2 or not math.isfinite(c[0] + c[1]):
+    if strength <= GLOW_SHOWN or radius < 2 or not math.isfinite(c[0] + c[1]):
         return None
     g = glow_surface(radius, color, strength)
     w, h = g.get_size()                  # (centred on the rounded point, as get_rect(center=))

@@ -134,3 +134,31 @@ def test_two_hints_of_one_name_and_colour_each_keep_their_strength():
     # measured: the names' light 8,788 and 8,888 before (one alpha for both), 44,184 and
     # 8,888 after (alphas 255 and 51)
     assert lit[0] > 3 * lit[1] > 0, lit
+
+
+def test_a_hints_name_is_made_once_per_strength_and_kept():
+    """A hint's name at one strength is the same surface frame after frame (its copy and alpha
+    made once: a copy + set_alpha each frame were a third of the name's time), and a second
+    strength has its own, at its own alpha."""
+    from tabletop.drawing.light import hint_label
+    r = Renderer(TABLE, SIZE)
+    at, table = pygame.Rect(400, 300, 120, 80), r._table_rect()
+    first = hint_label(SIZE, "wave", at, (90, 220, 120), 0.4, r.map.reading(), table)
+    again = hint_label(SIZE, "wave", at.move(30, 0), (90, 220, 120), 0.4, r.map.reading(), table)
+    faint = hint_label(SIZE, "wave", at, (90, 220, 120), 0.1, r.map.reading(), table)
+    assert again[0] is first[0] and again[1] == first[1].move(30, 0)
+    assert faint[0] is not first[0]
+    assert (first[0].get_alpha(), faint[0].get_alpha()) == (204, 51)
+
+
+def test_a_hinted_pose_is_the_pose_made_faint():
+    """hinted_pose (made positionally) is the character's pose with only its opacity, light,
+    colour and ground changed."""
+    import dataclasses
+    from tabletop.drawing.characters import Pose
+    from tabletop.drawing.light import HINT_ALPHA, hinted_pose
+    from tabletop.drawing.palette import vivid
+    pose = Pose((10.0, 20.0), 0.3, 840.0, 0.9, 1.1, 1.02, 1.2, 0.4, 0.7, 0.2, (1, 2, 3), 0.5)
+    want = dataclasses.replace(pose, alpha=0.9 * HINT_ALPHA * 0.8, light=0.0,
+                               color=vivid((90, 220, 120), 1.0, 0.8, 0.8), ground=(0, 0, 0))
+    assert hinted_pose(pose, [90, 220, 120], 0.8) == want

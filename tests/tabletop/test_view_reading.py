@@ -264,3 +264,26 @@ def test_the_rename_line_stays_in_the_window_where_the_projector_does_not_reach_
     w, a = np.flatnonzero(white), np.flatnonzero(amber)
     assert w.size and a.size, (w.size, a.size)
     assert 0 <= w.min() and w.max() < a.min() and a.max() < 120, (w.min(), w.max(), a.min())
+
+
+def test_words_are_placed_by_their_anchor_on_every_reading():
+    """Reading.at (worked out inline) against the rule it states, on all eight readings: the
+    words' ``anchor`` fraction along the reader's right and down lies on ``pos``, a flipped axis
+    mirrored about that pixel."""
+    import math
+    import random
+    from tabletop.drawing.reading import _ORIENTATIONS
+    rnd = random.Random(0)
+    for right, up in _ORIENTATIONS:
+        reading = Reading(right, up)
+        down = (-up[0], -up[1])
+        for _ in range(500):
+            size = (rnd.randint(1, 200), rnd.randint(1, 200))
+            pos = (rnd.uniform(-300, 1500), rnd.uniform(-300, 1500))
+            anchor = (rnd.choice((0.0, 0.4, 0.5, 0.6, 1.0, rnd.random())), rnd.random())
+            topleft = []
+            for k in (0, 1):
+                d, f = (right, anchor[0]) if right[k] else (down, anchor[1])
+                n = math.floor(f * size[k])
+                topleft.append(math.floor(pos[k]) - (n if d[k] > 0 else size[k] - 1 - n))
+            assert reading.at(size, pos, anchor) == pygame.Rect(topleft, size), (right, up)
