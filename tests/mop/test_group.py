@@ -451,8 +451,9 @@ def test_a_restarted_member_forgets_its_end_at_the_tempo_as_a_follower_does():
                                 dict(coverage=0.0, shape_distance=99.0, shape_accept=98.0)])
 def test_a_group_of_one_with_the_options_the_tests_run_equals_its_follower_alone(kw):
     # the options of the MOP tests' runs stepped by a group of one (tests/mop/helpers.solo):
-    # other windows (test_quality's still puck, test_window's 4-60) and the coverage and path-misfit rules off
-    # (test_quality's unrelated motions); four gestures back to back, every tick equal
+    # other windows (test_quality's still puck, test_window's 4-60) and the coverage and
+    # path-misfit rules off (test_quality's unrelated motions); four gestures back to back,
+    # every tick equal
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates
     from tests.mop.helpers import chain, group_beside_alone
