@@ -1,8 +1,11 @@
 """Helpers of the MOP engine tests beyond :mod:`tabletop.plugins.mop_table`."""
 
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from behaviors.mop.group import FollowerGroup
 
 
 def widened_mirrored(seed: int, name: str, scale: float) -> np.ndarray:
@@ -99,6 +102,30 @@ def group_beside_alone(make: Callable, streams: list[np.ndarray]) -> list[int]:
             assert math.isclose(a.progress, g.progress, rel_tol=1e-12, abs_tol=1e-12), t
             valid[j] += g.valid
     return valid
+
+
+def solo(follower) -> "FollowerGroup":
+    """``follower`` as the one member of a ``FollowerGroup``: the compiled form the installation
+    runs (tabletop/plugins/mop.py), equal to the follower alone at every tick
+    (tests/mop/test_group.py) at about a sixth of its CPU a step (0.24 against 1.46 ms, the six
+    gestures loaded). Not for a run whose rule is switched off by patching a constant the
+    group's kernels compile in (validity's, tempo's, shape_lead.TAKE_FIT, take_rule.TAKE_SIZES,
+    a patched Validity method): those keep to the follower. Constants read where the follower
+    is built (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT) and take_rule.TAKE_MISFIT2 and
+    threshold.CARRY_LEAD (read at each step) reach both."""
+    from behaviors.mop.group import FollowerGroup
+    return FollowerGroup([follower])
+
+
+def run(follower, x: np.ndarray) -> list:
+    """``bench.follow_quality.run`` (the follower reset, then each sample of ``x`` stepped) for a
+    follower or a group of one (:func:`solo`): each tick's state."""
+    from bench.follow_quality import run as run_alone
+    from behaviors.mop.group import FollowerGroup
+    if not isinstance(follower, FollowerGroup):
+        return run_alone(follower, x)
+    follower.reset()
+    return [follower.step([s])[0] for s in x]
 
 
 def refused(tmp_path, mutate, *words: str, error: type = None) -> None:

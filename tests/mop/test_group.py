@@ -445,3 +445,21 @@ def test_a_restarted_member_forgets_its_end_at_the_tempo_as_a_follower_does():
     group._forget_members(0)
     assert group._end_history_n[0] == len(alone._end_history) == 0
     assert not group._lagged[0] and not alone._lagged
+
+
+@pytest.mark.parametrize("kw", [dict(window=4), dict(window=15), dict(window=80),
+                                dict(coverage=0.0, shape_distance=99.0, shape_accept=98.0)])
+def test_a_group_of_one_with_the_options_the_tests_run_equals_its_follower_alone(kw):
+    # the options of the MOP tests' runs stepped by a group of one (tests/mop/helpers.solo):
+    # other windows (test_quality's still puck, test_window's 4-60) and the coverage and
+    # path-misfit rules off (test_quality's unrelated motions); four gestures back to back,
+    # every tick equal
+    from bench.follow_quality import puck_follower
+    from bench.motions import gesture_templates
+    from tests.mop.helpers import chain, group_beside_alone
+    gestures = gesture_templates()
+    rng = np.random.default_rng(5)
+    x, _, _ = chain(rng, gestures, ["circle", "zigzag", "square", "wave"],
+                    lambda: float(rng.uniform(0.7, 1.4)))
+    valid = group_beside_alone(lambda: puck_follower(gestures, **kw), [x])
+    assert valid[0] >= 120, valid   # followed: measured 143, 143 and 144 valid ticks

@@ -4,10 +4,11 @@ a diagonal stroke goes on straight past where the figure eight's first stroke tu
 import numpy as np
 import pytest
 
-from bench.follow_quality import puck_follower, run
+from bench.follow_quality import puck_follower
 from bench.motions import gesture_templates, performance, unrelated_motions
 from behaviors.mop.follower_validity import Validity
 
+from tests.mop.helpers import run, solo
 from tests.mop.test_refusal import _group_as_alone
 
 SCALES = (0.7, 1.0, 1.4)
@@ -28,8 +29,8 @@ def _valid(f, streams) -> list[int]:
 def test_the_figure_eight_drives_a_diagonal_less_once_the_input_overruns_it(diagonals,
                                                                             monkeypatch):
     # Measured: valid ticks (all the figure eight's) 59 of 828 with the rule, 92 without it
-    f = puck_follower(gesture_templates())
-    now = _valid(f, diagonals)
+    f = puck_follower(gesture_templates())   # (the patched method: the follower alone)
+    now = _valid(solo(puck_follower(gesture_templates())), diagonals)
     monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     without = _valid(f, diagonals)
     assert sum(now) <= 0.75 * sum(without), (now, without)
@@ -40,8 +41,8 @@ def test_an_overrun_is_not_spared_once_it_began(diagonals, monkeypatch):
     # overrun.GROWN_ONSET_ONLY: the figure eight parked in its turn re-grows its size while the
     # diagonal runs on past it; measured 59 valid ticks, 65 when the growth spares it again
     # (seed 0 at 1.4x 9 / 12, seed 1 at 0.7x 3 / 6; the performed eights below unchanged)
-    f = puck_follower(gesture_templates())
-    now = _valid(f, diagonals)
+    f = puck_follower(gesture_templates())   # (the patched method: the follower alone)
+    now = _valid(solo(puck_follower(gesture_templates())), diagonals)
     onset = Validity._overruns
 
     def onset_each_sample(self, k, g, x, progress):
@@ -58,10 +59,10 @@ def test_a_performed_figure_eight_is_seldom_taken_for_an_overrun(monkeypatch):
     # the rule takes 3 of the figure eight's valid ticks at 0.7x (its followed state lagging
     # at its first turn) and none at 1.0-1.4x (while its size grows: overrun.GROWN)
     gestures = gesture_templates()
-    f = puck_follower(gestures)
+    f = puck_follower(gestures)   # (the patched method: the follower alone)
     streams = [performance(np.random.default_rng(seed), gestures["figure_eight"], sc)[0]
                for seed in range(2) for sc in SCALES]
-    now = _valid(f, streams)
+    now = _valid(solo(puck_follower(gestures)), streams)
     monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x, progress: False)
     without = _valid(f, streams)
     lost = [b - a for a, b in zip(now, without)]

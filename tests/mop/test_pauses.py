@@ -8,17 +8,18 @@ import numpy as np
 import pytest
 
 from bench.follow_pauses import driven_over
-from bench.follow_quality import puck_follower, run
+from bench.follow_quality import puck_follower
 from bench.motions import paused
 from behaviors.mop import validity
-from tests.mop.helpers import held_out_group_valid, held_out_valid
+from tests.mop.helpers import held_out_group_valid, held_out_valid, run, solo
 
 
-def _pauses(gestures: dict[str, np.ndarray]) -> list[tuple[float, float]]:
+def _pauses(gestures: dict[str, np.ndarray], grouped: bool = True) -> list[tuple[float, float]]:
     """Each gesture drawn at 0.8-1.2x, paused 1.5 s at 30-70% of it, seeds 0-3: for those whose
     action drove on the 3 samples before the pause, the share of the pause it drove on and the
-    share a wrong action drove on."""
-    f = puck_follower(gestures)
+    share a wrong action drove on. ``grouped``: stepped by a group of one
+    (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
+    f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
     out = []
     for seed in range(4):
         rng = np.random.default_rng(seed)
@@ -43,8 +44,8 @@ def test_an_action_paused_part_way_drives_through_the_pause(gestures):
 
 def test_without_the_pause_rule_paused_actions_stop_driving(gestures, monkeypatch):
     # the same pauses with the evidence weighed at rest (the rule off): the figures above fail
-    monkeypatch.setattr(validity, "UNWEIGHED_AT_REST", False)
-    shares = _pauses(gestures)
+    monkeypatch.setattr(validity, "UNWEIGHED_AT_REST", False)   # read by the follower alone
+    shares = _pauses(gestures, grouped=False)
     assert sum(d < 0.95 for d, _ in shares) >= 3, shares
 
 

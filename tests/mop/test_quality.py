@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from bench.follow_quality import puck_follower, run, true_metrics
+from bench.follow_quality import puck_follower, true_metrics
 from bench.motions import at_phase, performance, phase_of, raise_hold_return, unrelated_motions
 from behaviors.mop import shape_lead, take_rule
 from behaviors.mop.follower import ActionFollower
-from tests.mop.helpers import widened_mirrored
+from tests.mop.helpers import run, solo, widened_mirrored
 
 
 def test_gestures_at_other_sizes_stay_valid_and_followed(gestures):
@@ -21,7 +21,7 @@ def test_gestures_at_other_sizes_stay_valid_and_followed(gestures):
     # until 0.37 of it; behaviors.mop.invariance), second lowest 0.72 (bench, all twenty
     # templates: 0.91), RMSE median 0.02
     rng = np.random.default_rng(3)
-    f = puck_follower(gestures)
+    f = solo(puck_follower(gestures))
     after30, rmse = [], []
     for name in ("circle", "wave", "figure_eight", "square"):
         for scale in (0.7, 1.4):
@@ -36,8 +36,8 @@ def test_gestures_at_other_sizes_stay_valid_and_followed(gestures):
 def test_size_matters_to_the_follower_without_invariance(gestures):
     # the same performances with features as recorded: a 1.4x circle is refused for most of it
     rng = np.random.default_rng(3)
-    plain = ActionFollower(gestures, units=np.ones(2))
-    scaled = puck_follower(gestures)
+    plain = solo(ActionFollower(gestures, units=np.ones(2)))
+    scaled = solo(puck_follower(gestures))
     x, prog = performance(rng, gestures["circle"], 1.4)
     assert (true_metrics(run(scaled, x), "circle", prog)["valid_after30"]
             >= true_metrics(run(plain, x), "circle", prog)["valid_after30"] + 0.3)
@@ -45,7 +45,7 @@ def test_size_matters_to_the_follower_without_invariance(gestures):
 
 def test_a_hold_of_any_length_is_followed_without_sliding_back(gestures):
     rhr, spans = raise_hold_return()
-    f = puck_follower({**gestures, **rhr})
+    f = solo(puck_follower({**gestures, **rhr}))
     rng = np.random.default_rng(5)
     for name in ("arc_hold", "lift_hold"):
         for factor in (0.3, 3.0):
@@ -108,8 +108,8 @@ def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
     # the whole floor on each state (window_kernel's ``fl = floor``) 0.385 of the time at
     # window 40 in one draw of six (seed 2), the window's far states taking over
     for window in (15, 20, 40, 80):
-        for f in (puck_follower(gestures, window=window),
-                  ActionFollower(gestures, window=window)):
+        for f in (solo(puck_follower(gestures, window=window)),
+                  solo(ActionFollower(gestures, window=window))):
             for seed in range(6):
                 x, _ = performance(np.random.default_rng(seed), np.zeros((60, 2)), 1.0)
                 assert not any(s.valid for s in run(f, x)), (seed, window)
@@ -120,7 +120,7 @@ def test_a_mirrored_gesture_is_refused(gestures):
     # (zigzag 33%, wave 34%, line 45%: their mirror images share long stretches with them)
     for name in ("circle", "figure_eight", "square"):
         rng = np.random.default_rng(4)
-        f = puck_follower({name: gestures[name]})
+        f = solo(puck_follower({name: gestures[name]}))
         x, _ = performance(rng,
                            unrelated_motions(rng, {name: gestures[name]})[f"mirrored_{name}"], 1.0)
         assert np.mean([s.valid for s in run(f, x)]) <= 0.1, name
@@ -133,7 +133,7 @@ def test_the_threshold_models_mirror_chains_refuse_a_template_drawn_mirrored():
     # The templates themselves still drive: valid after 30% 0.94-1.0 and 0.73-0.91 (both alike)
     from bench.motions import MOCAP, gesture_templates, mocap_templates
     templates = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
-    f = puck_follower(templates)
+    f = solo(puck_follower(templates))
     for seed, name, scale in ((208, "dance_a_left_wrist", 0.7), (206, "square", 1.4)):
         x = widened_mirrored(seed, name, scale)
         assert np.mean([s.valid for s in run(f, x)]) <= 0.1, name
@@ -156,13 +156,15 @@ def test_the_likeliest_actions_are_known_before_any_is_valid(gestures):
     assert not any(s.likely for s in states[6:12])
 
 
-def _unrelated_shares(gestures, **kw):
+def _unrelated_shares(gestures, grouped: bool = True, **kw):
     """Valid share of the diagonal, spiral, wander and triangle (0.7, 1.0, 1.4x) with the circle
-    alone and with the six gestures loaded (seeded)."""
+    alone and with the six gestures loaded (seeded); ``grouped``: stepped by a group of one
+    (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
     out = {}
     for key, loaded in (("circle", {"circle": gestures["circle"]}), ("six", gestures)):
         rng = np.random.default_rng(11)
         f = puck_follower(loaded, **kw)
+        f = solo(f) if grouped else f
         paths = unrelated_motions(rng, loaded)
         for name in ("diagonal", "spiral", "wander", "triangle"):
             shares = []
@@ -194,9 +196,9 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     # (spiral 0.18 vs 0.25, triangle 0.41 vs 0.45); no motion drives more with it. Compared
     # without shape_lead.TAKE_FIT, which now refuses most of the spiral the threshold model took
     # (0.0709 with it, 0.0717 without)
-    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read at each step
-    now = _unrelated_shares(gestures)
-    plain = _unrelated_shares(gestures, threshold=float("inf"))
+    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read by the follower alone
+    now = _unrelated_shares(gestures, grouped=False)
+    plain = _unrelated_shares(gestures, grouped=False, threshold=float("inf"))
     six = [k for k in now if k.startswith("six:")]
     assert np.mean([now[k] for k in six]) <= np.mean([plain[k] for k in six]) - 0.015, (now, plain)
     assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)
@@ -211,7 +213,7 @@ def _unrelated_target(gestures) -> tuple[dict, dict]:
     for key in ("square", "six"):
         loaded = gestures if key == "six" else {key: gestures[key]}
         rng = np.random.default_rng(11)
-        f = puck_follower(loaded)
+        f = solo(puck_follower(loaded))
         for name, path in unrelated_motions(rng, loaded).items():
             v, t = [], []
             for scale in (0.7, 1.0, 1.4):
@@ -318,7 +320,7 @@ def test_a_gesture_larger_than_recorded_is_sized_by_its_reach(gestures, monkeypa
         if rules == "off":
             monkeypatch.setattr(invariance, "REACH_BOUND", 0.0)
             monkeypatch.setattr(invariance, "REJUDGE", 0.0)
-        f = puck_follower(templates)
+        f = solo(puck_follower(templates))   # (the bound and judging read where it is built)
         out = []
         for name in clips:
             for seed in range(3):
@@ -371,9 +373,9 @@ def test_a_gesture_drawn_smaller_is_sized_once_its_stroke_turns(gestures, monkey
     monkeypatch.setattr(invariance, "REVERSAL_FIT", 0.0)
     templates = {**gestures, **mocap_templates(joints=(("crawl", "right_wrist"),))}
     shares, now, plain = {}, invariance.ALONG, 1.0
-    for along in (now, plain):
+    for along in (now, plain):   # (ALONG patched reaches the follower alone)
         monkeypatch.setattr(invariance, "ALONG", along)
-        f = puck_follower(templates)
+        f = solo(puck_follower(templates)) if along == now else puck_follower(templates)
         for name, scale in (("crawl_right_wrist", 0.85), ("square", 0.7)):
             shares[along, name] = np.mean([
                 true_metrics(run(f, x), name, prog)["valid_after30"]

@@ -7,12 +7,13 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
+from bench.follow_quality import PERFORMS_M, performs, puck_follower
 from bench.motions import performance, unrelated_motions
 from behaviors.mop import shape_lead, take_rule, tempo, threshold, validity
 from behaviors.mop.follower_validity import Validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import Refusal, shape_limits
+from tests.mop.helpers import run, solo
 
 
 def _group_as_alone(gestures, streams: list[np.ndarray]) -> None:
@@ -35,7 +36,7 @@ def _circle_alone_shares(gestures, **kw) -> dict[str, float]:
     out = {}
     for name in ("diagonal", "spiral", "wander"):
         rng = np.random.default_rng(11)
-        f = puck_follower({"circle": gestures["circle"]}, **kw)
+        f = solo(puck_follower({"circle": gestures["circle"]}, **kw))
         path = unrelated_motions(rng, {"circle": gestures["circle"]})[name]
         out[name] = float(np.mean([np.mean([s.valid for s in run(f, performance(rng, path, sc)[0])])
                                    for sc in (0.7, 1.0, 1.4)]))
@@ -67,14 +68,15 @@ def test_path_limits_default_by_invariance():
     assert shape_limits("scale", 1.5, 1.3) == (1.5, 1.3)
 
 
-def _mirrored_line_rest_valid(gestures) -> int:
+def _mirrored_line_rest_valid(gestures, grouped: bool = True) -> int:
     """Valid ticks in the rest after a mirrored line (out along -x, back), six gestures loaded,
-    five seeds at 0.7, 1.0 and 1.4x."""
+    five seeds at 0.7, 1.0 and 1.4x; ``grouped``: stepped by a group of one
+    (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
     mirrored = gestures["line"] * np.array([-1.0, 1.0])
     total = 0
     for seed in (1, 2, 3, 4, 5):
         rng = np.random.default_rng(seed)
-        f = puck_follower(gestures)
+        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
         for scale in (0.7, 1.0, 1.4):
             x, prog = performance(rng, mirrored, scale)
             end = np.flatnonzero(np.isfinite(prog[:, 0]))[-1]
@@ -87,10 +89,10 @@ def test_no_action_is_taken_at_the_rest_after_an_abandoned_turn(gestures, monkey
     # line's outward stroke; the ban on taking an action back the way it came lasts through
     # the rest that follows. Measured 68 valid ticks at rest, 120 with the ban lifted at the rest,
     # with the threshold model afresh at the abandonment (its lead carried refuses both: 0, 0)
-    monkeypatch.setattr(threshold, "CARRY_LEAD", False)
+    monkeypatch.setattr(threshold, "CARRY_LEAD", False)   # read at each step
     now = _mirrored_line_rest_valid(gestures)
-    monkeypatch.setattr(validity, "RESTED_LIFTS", False)
-    lifted = _mirrored_line_rest_valid(gestures)
+    monkeypatch.setattr(validity, "RESTED_LIFTS", False)   # read by the follower alone
+    lifted = _mirrored_line_rest_valid(gestures, grouped=False)
     assert now <= lifted - 35, (now, lifted)
 
 
@@ -121,7 +123,7 @@ def test_no_action_is_taken_back_the_way_an_attempt_abandoned_after_its_turn_cam
     # came over the last samples, and the line was taken on it as its outward stroke, then held
     # at its turn while the performer rested. Six gestures, twelve seeds: measured 22 valid
     # ticks, 189 with the way read over the last still_samples before the anchor
-    f = puck_follower(gestures)
+    f = solo(puck_follower(gestures))
     valid = sum(sum(s.valid for s in run(f, x)) for x in _mirrored_line_streams(gestures,
                                                                                 range(12)))
     assert valid <= 60, valid
@@ -172,13 +174,14 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
     assert now <= reset - 30, (now, reset)
 
 
-def _circle_on_spirals(gestures) -> int:
+def _circle_on_spirals(gestures, grouped: bool = True) -> int:
     """Ticks the circle drives a spiral (two loops the circle's way round, the second through
-    its start) at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds."""
+    its start) at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds; ``grouped``: stepped by
+    a group of one (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
     total = 0
     for seed in range(8):
         rng = np.random.default_rng(seed)
-        f = puck_follower(gestures)
+        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
         path = unrelated_motions(rng, gestures)["spiral"]
         for sc in (0.7, 1.0, 1.4):
             states = run(f, performance(rng, path, sc)[0])
@@ -193,8 +196,8 @@ def test_an_action_whose_shape_since_the_gesture_began_is_off_is_not_taken(gestu
     # 46 with no limit (the last samples' fit, take_rule.TAKE_MISFIT2, lifted: with it 13, 19)
     monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     now = _circle_on_spirals(gestures)
-    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read at each step
-    unlimited = _circle_on_spirals(gestures)
+    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read by the follower alone
+    unlimited = _circle_on_spirals(gestures, grouped=False)
     assert now <= 30 and now <= unlimited - 15, (now, unlimited)
 
 
@@ -274,9 +277,9 @@ def test_a_new_action_is_taken_only_while_the_last_samples_fit_its_path(monkeypa
     # at their best size, the last samples stray 0.23-0.38 sigma^2 from its path (true takes:
     # 0.02 median). Measured 3 valid ticks of 316, 78 without
     templates, streams = _mirrored_squares()
-    f = puck_follower(templates)
+    f = solo(puck_follower(templates))
     now = sum(s.valid for x in streams for s in run(f, x))
-    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)   # read at each step
+    monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)   # read at each step (both)
     unlimited = sum(s.valid for x in streams for s in run(f, x))
     assert now <= 10 and unlimited >= 60, (now, unlimited)
 
@@ -306,8 +309,8 @@ def test_a_new_action_is_taken_only_at_a_size_near_the_one_it_is_followed_at(mon
     # within TAKE_MISFIT2 only read at 1.25-1.4 times that size (1.12 once). Measured 2 valid
     # ticks of the eight performances with the sizes up to 1.12, 47 with them up to 1.4
     templates, streams = _mirrored_waves()
-    f = puck_follower(templates)
-    now = sum(s.valid for x in streams for s in run(f, x))
+    now = sum(s.valid for x in streams for s in run(solo(puck_follower(templates)), x))
+    f = puck_follower(templates)   # (the sizes patched reach the follower alone)
     monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     wide = sum(s.valid for x in streams for s in run(f, x))
     assert now <= 6 and wide >= 30, (now, wide)
@@ -344,7 +347,7 @@ def test_a_strained_action_takes_no_size_at_a_reversal(monkeypatch):
     # path either way (threshold.MIRROR_KEEP: 0.056 with and without the rule)
     templates, x = _mirrored_dance()
     plain = {"threshold": math.inf}
-    now = np.mean([s.valid for s in run(puck_follower(templates, **plain), x)])
+    now = np.mean([s.valid for s in run(solo(puck_follower(templates, **plain)), x)])
     monkeypatch.setattr(Refusal, "_recent_dist2", lambda self, k: 0.0)   # never strained
     sized = np.mean([s.valid for s in run(puck_follower(templates, **plain), x)])
     assert now <= 0.26 and sized >= now + 0.08, (now, sized)

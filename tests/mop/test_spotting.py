@@ -6,15 +6,15 @@ action may drive meanwhile: :mod:`tests.mop.test_shape_lead`)."""
 
 import numpy as np
 
-from bench.follow_quality import puck_follower, run
+from bench.follow_quality import puck_follower
 from bench.motions import at_phase, back_to_back, phase_of
 from behaviors.mop.sharing import shared_until
-from tests.mop.helpers import chain
+from tests.mop.helpers import chain, run, solo
 
 
 def test_gestures_back_to_back_are_each_recognised(gestures):
     rng = np.random.default_rng(8)
-    f = puck_follower(gestures)
+    f = solo(puck_follower(gestures))
     order = ["circle", "line", "figure_eight", "wave"]
     x, truth, prog = chain(rng, gestures, order)
     states = run(f, x)
@@ -39,7 +39,7 @@ def test_a_line_followed_backwards_ends_when_the_input_is_back_at_its_end(gestur
     # Known conflict with not-back-before-forward (validity.backs_first): on seeds 0 and 1 the
     # wave, first valid at 0.53, steps back to 0.50, is held, and the zigzag drives the rest
     # (the wave drives 2 and 1 samples); seeds 2 and 3 keep 37 and 31
-    f = puck_follower(gestures)
+    f = solo(puck_follower(gestures))
     for seed in range(4):
         rng = np.random.default_rng(seed)
         sizes = iter((0.7, 1.0))
@@ -60,8 +60,8 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
     # with the rule off 32-33, four of 3-4; with the end at the tempo too: 14, none over 2
     from behaviors.mop import gesture_end, spotting
 
-    def late_ticks() -> list[int]:
-        f = puck_follower(gestures)
+    def late_ticks(grouped: bool = False) -> list[int]:   # (patched: the follower alone)
+        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
         out = []
         for seed in range(4):
             rng = np.random.default_rng(seed)
@@ -72,7 +72,7 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
                     for a, b in zip(order, order[1:])]
         return out
 
-    now = late_ticks()
+    now = late_ticks(grouped=True)
     # the rule measured with the end at the tempo (handover.tempo_ended) left out: it ends some
     # of the same runs (with it and without this rule 25)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
@@ -113,8 +113,8 @@ def test_the_next_gesture_begins_where_a_fast_ending_one_ends(gestures, monkeypa
     templates = {**gestures, **mocap_templates(joints=(("crawl", "right_wrist"),
                                                        ("run", "left_wrist")))}
 
-    def recognised() -> list[float]:
-        f = puck_follower(templates)
+    def recognised(grouped: bool = False) -> list[float]:   # (patched: the follower alone)
+        f = solo(puck_follower(templates)) if grouped else puck_follower(templates)
         out = []
         for seed in range(3):
             for clip in ("crawl_right_wrist", "run_left_wrist"):
@@ -125,7 +125,7 @@ def test_the_next_gesture_begins_where_a_fast_ending_one_ends(gestures, monkeypa
                                  if truth[i] == after and s.valid and s.best == after), 1.0))
         return out
 
-    now = recognised()
+    now = recognised(grouped=True)
     monkeypatch.setattr(GestureSpotting, "_next_anchor", lambda self, x, k: self._end_x)
     plain = recognised()
     assert max(now) <= 0.35, now
@@ -161,8 +161,8 @@ def test_an_ended_gestures_last_point_stays_where_its_end_was_reached(gestures, 
     from behaviors.mop import spotting
     from behaviors.mop.spotting import GestureSpotting
 
-    def recognised() -> list[float]:
-        f = puck_follower(gestures)
+    def recognised(grouped: bool = False) -> list[float]:   # (patched: the follower alone)
+        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
         out = []
         for seed in (6, 7):
             x, truth, prog, order = back_to_back(np.random.default_rng(seed), gestures, 6)
@@ -171,7 +171,7 @@ def test_an_ended_gestures_last_point_stays_where_its_end_was_reached(gestures, 
                           if truth[i] == g and s.valid and s.best == g), 1.0) for g in order]
         return out
 
-    now = recognised()
+    now = recognised(grouped=True)
     # the live last point measured with the end at the tempo (handover.tempo_ended) left out
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     monkeypatch.setattr(GestureSpotting, "_end_last",
@@ -203,7 +203,7 @@ def test_a_stroke_right_after_a_gesture_is_followed_as_from_rest(gestures):
     # circle 8 / 9, zigzag 6 / 6, figure eight 11 / 11, line 3 / 3, square 12 / 13, wave 10 / 9,
     # every one the figure eight's at 0.22-0.28 of it (the diagonal is its first stroke)
     rng = np.random.default_rng(13)
-    f = puck_follower(gestures)
+    f = solo(puck_follower(gestures))
     diagonal = np.stack([np.linspace(0, 0.12, 60)] * 2, 1)
     for g, tpl in gestures.items():
         gesture = float(rng.uniform(0.8, 1.2)) * at_phase(tpl, phase_of(rng, len(tpl))[0])
@@ -239,7 +239,7 @@ def test_a_gesture_never_recognised_ends_where_the_input_moves_on_from_its_templ
     # getup recognised at 0.18 of it, no wrong tick; without the rule the getup is followed on
     # the punch's sums, never recognised, and the punch drives it for 6 ticks
     templates, x, truth, prog = _unseen_end_stream()
-    states = run(puck_follower(templates), x)
+    states = run(solo(puck_follower(templates)), x)
     g = "getup_facedown_right_wrist"
     wrong = [s.best for i, s in enumerate(states) if truth[i] == g and s.valid and s.best != g]
     hit = [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
@@ -270,7 +270,7 @@ def test_an_attempt_begun_at_a_return_is_anchored_again_where_the_input_rests():
     # no wrong tick, the wave recognised at 0.263 of it; without the rule the crawl ankle drives
     # 4 ticks of the wave and the wave is recognised at 0.717
     templates, x, truth, prog = _returned_end_stream()
-    states = run(puck_follower(templates), x)
+    states = run(solo(puck_follower(templates)), x)
     wrong = [s.best for i, s in enumerate(states) if s.valid and s.best != truth[i]]
     hit = [prog[i] for i, s in enumerate(states) if truth[i] == "wave" and s.valid
            and s.best == "wave"]

@@ -4,8 +4,9 @@ follows a gesture the same; a performance too fast for a narrow window is lost b
 
 import numpy as np
 
-from bench.follow_quality import puck_follower, run, true_metrics
+from bench.follow_quality import puck_follower, true_metrics
 from bench.motions import performance
+from tests.mop.helpers import run, solo
 
 NAMES = ("circle", "wave", "square", "zigzag")
 
@@ -13,7 +14,7 @@ NAMES = ("circle", "wave", "square", "zigzag")
 def _figures(gestures, window: int, every: int = 1) -> np.ndarray:
     """(valid share after 30%, progress RMSE) of each of NAMES at 1x size, seeds 0 and 1,
     performed with one sample kept in ``every`` (``every`` times the tempo)."""
-    f = puck_follower(gestures, window=window)
+    f = solo(puck_follower(gestures, window=window))
     out = []
     for seed in range(2):
         rng = np.random.default_rng(seed)
