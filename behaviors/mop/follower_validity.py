@@ -31,14 +31,17 @@ class Validity:
             return False, False
         then, x0, _ = self._tempo_past[0]
         was = float(then[k])
-        if tempo.before_attempt(self._shape_n if samples is None else samples):
-            x0, was = self._anchor, 0.0
+        n = self._shape_n if samples is None else samples
+        span = tempo.TEMPO_SAMPLES
+        if tempo.before_attempt(n):
+            # (... over the attempt's own samples: tempo.span)
+            x0, was, span = self._anchor, 0.0, tempo.span(n)
         r = (x - x0) / (self.bank.scale[k] * self._size[k])
         moved = math.sqrt(float(np.mean(r * r)))
         advance = float(g[k] - self.bank.starts[k] - was)
         onset = self.onset * self.sigma
         hovers = moved < onset and abs(advance) < tempo.LEAST_TEMPO * tempo.TEMPO_SAMPLES
-        return tempo.slow_take(advance, moved, onset), hovers
+        return tempo.slow_take(advance, moved, onset, span), hovers
 
     def _remember_tempo(self, states: np.ndarray, x: np.ndarray) -> None:
         """Keep the followed ``states`` (K,), sample ``x`` and sizes of the last

@@ -59,6 +59,20 @@ figure identical (the sooner ones were within 20% already, or still past the rea
 the reach .0875 -> .0858), tuned .281 -> .313 but past the reach .1012 -> .1023 (a gesture a
 stale read had let through at once, as that walk wrist), the six's option draws past the reach
 .0800 -> .0796; every other figure identical.
+There the demand is also scaled to the attempt's own samples (:func:`span`: :data:`LEAST_TEMPO`
+a sample since the attempt began, not 3 states over a window the attempt does not yet fill): a
+short template's first samples (the walk wrist 38 states, the dance_a ankle 49, their reach + 0.05
+2-3 samples in) were held until 3 states along, whatever their tempo. Held-out twenty templates
+back to back (``bench/follow_quality.py --sections=sequences``'s figures, the follower, seeds
+101-106 / 107-112, 384 gestures): 24 recognised sooner (the dance_a ankle 13, e.g. 0.133 ->
+0.066; the walk wrist 11, 0.167 -> 0.124), none later; by the reach + 0.05 .3646 -> .3802 /
+.3542 -> .3698, past the reach .0902 -> .0881 / .1087 -> .1065; within 20% or by the reach
+unchanged (.526 / .521: they were within 20% already); longest wrong runs unchanged (seed 104's
+run of another action 1 -> 2 ticks, under its max). ``bench/follow_seeds.py
+--sections=sized,unrelated,sequences`` seeds 101-106 and 107-112: every figure identical;
+``bench/follow_quality.py --sections=sequences,after,unrelated``: twenty back to back past the
+reach tuned .1035 -> .0976, held-out .0858 -> .0847, every other figure of those sections
+identical.
 
 Crawling (:func:`crawls`): an action, taken or not, stops driving once the tempo test above
 found it crawling :data:`CRAWL_SAMPLES` samples in a row; it is then taken again only at tempo.
@@ -112,14 +126,22 @@ def before_attempt(samples: float) -> bool:
     return samples <= TEMPO_SAMPLES
 
 
-def slow_take(advance: float, moved: float, onset: float) -> bool:
-    """Whether a new action is taken too slowly to be performed: over the last
-    :data:`TEMPO_SAMPLES` samples its followed state moved ``advance`` states (either way), fewer
-    than :data:`LEAST_TEMPO` per sample, while the input moved ``moved`` (RMS per column, in the
-    template's spread at its estimated size) by at least ``onset``. A performer goes at 0.5-2x the
-    recorded tempo; a template whose followed state crawls while the input sweeps on is being
-    stretched over a path that is not its own (see the module docstring)."""
-    return LEAST_TEMPO > 0 and moved >= onset and abs(advance) < LEAST_TEMPO * TEMPO_SAMPLES
+def span(samples: float) -> float:
+    """Samples over which :func:`slow_take` reads the tempo where :func:`before_attempt`: the
+    attempt's own (``samples`` with this one, at least 1), not :data:`TEMPO_SAMPLES`."""
+    return max(float(samples), 1.0)
+
+
+def slow_take(advance: float, moved: float, onset: float,
+              samples: float = TEMPO_SAMPLES) -> bool:
+    """Whether a new action is taken too slowly to be performed: over the last ``samples``
+    (:data:`TEMPO_SAMPLES`, or the attempt's own: :func:`span`) its followed state moved
+    ``advance`` states (either way), fewer than :data:`LEAST_TEMPO` per sample, while the input
+    moved ``moved`` (RMS per column, in the template's spread at its estimated size) by at least
+    ``onset``. A performer goes at 0.5-2x the recorded tempo; a template whose followed state
+    crawls while the input sweeps on is being stretched over a path that is not its own (see the
+    module docstring)."""
+    return LEAST_TEMPO > 0 and moved >= onset and abs(advance) < LEAST_TEMPO * samples
 
 
 #: Crawling (:func:`crawls`): samples in a row an action may be followed at a crawl while it
