@@ -28,7 +28,7 @@ import numpy as np
 
 from behaviors.kernel_cache import load
 from behaviors.mop import (glitch, halts, overrun, path_kernel, reversal, size_probe,
-                           speed_profile, window_kernel)
+                           speed_profile, tempo, window_kernel)
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import (OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, glitch_limits,
                                   path_distance)
@@ -56,7 +56,7 @@ _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lag
             reversal.reversal_size, reversal.reversal_way, reversal.went_on, reversal.sizes_again,
             size_probe.probe_allowed, size_probe.take_probe,
             fresh_refusal.refuse, speed_profile.outpaces, speed_profile.turns_on,
-            halts.halts)
+            halts.halts, tempo.before_attempt, tempo.span)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,

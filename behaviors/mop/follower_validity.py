@@ -33,9 +33,9 @@ class Validity:
         was = float(then[k])
         n = self._shape_n if samples is None else samples
         span = tempo.TEMPO_SAMPLES
-        if tempo.before_attempt(n):
+        if tempo.before_attempt(float(n)):
             # (... over the attempt's own samples: tempo.span)
-            x0, was, span = self._anchor, 0.0, tempo.span(n)
+            x0, was, span = self._anchor, 0.0, tempo.span(float(n))
         r = (x - x0) / (self.bank.scale[k] * self._size[k])
         moved = math.sqrt(float(np.mean(r * r)))
         advance = float(g[k] - self.bank.starts[k] - was)

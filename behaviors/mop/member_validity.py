@@ -270,14 +270,14 @@ def slow_of(i: int, k: int, state: float, x: np.ndarray, past_x: np.ndarray,
     if seen[i] < w or LEAST_TEMPO <= 0:
         return False
     a = at[i]
-    fresh = samples <= w   # (tempo.before_attempt)
+    fresh = tempo_rules.before_attempt(samples)
     tot = 0.0
     for c in range(x.shape[1]):
         r = (x[i, c] - (anchor[i, c] if fresh else past_x[a, i, c])) / (scale[k, c0 + c] * size)
         tot += r * r
     return (math.sqrt(tot / dims) >= onset
             and abs(state - (0.0 if fresh else past_g[a, k]))
-            < LEAST_TEMPO * (max(samples, 1.0) if fresh else w))   # (tempo.span)
+            < LEAST_TEMPO * (tempo_rules.span(samples) if fresh else w))
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
@@ -309,7 +309,7 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
         hovers = False
         if seen[i] >= w and LEAST_TEMPO > 0:
             gb = bounds[i] + best[i]
-            fresh = samples[i] <= w   # (tempo.before_attempt)
+            fresh = tempo_rules.before_attempt(samples[i])
             tot = 0.0
             for c in range(x.shape[1]):
                 r = (x[i, c] - (anchor[i, c] if fresh else past_x[a, i, c])) / (scale[gb, c]
@@ -317,8 +317,8 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
                 tot += r * r
             moved = math.sqrt(tot / dims[i])
             advance = min(mean[gb], lengths[gb] - 1.0) - (0.0 if fresh else past_g[a, gb])
-            if moved >= onset and abs(advance) < LEAST_TEMPO * (max(samples[i], 1.0) if fresh
-                                                                else w):   # (tempo.span)
+            if moved >= onset and abs(advance) < LEAST_TEMPO * (tempo_rules.span(samples[i])
+                                                                if fresh else w):
                 leads[i] = False
                 slow = True
             hovers = moved < onset and abs(advance) < LEAST_TEMPO * w and drive_k[i] != best[i]

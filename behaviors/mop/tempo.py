@@ -105,7 +105,10 @@ track 0.254 both); for any action but one carried forward by
 
 from __future__ import annotations
 
+import numba
 import numpy as np
+
+from behaviors.kernel_cache import compiled
 
 
 #: Tempo (:func:`slow_take`): samples over which a new action's tempo is read...
@@ -115,6 +118,7 @@ TEMPO_SAMPLES = 10
 LEAST_TEMPO = 0.3
 
 
+@compiled(numba.boolean(numba.float64))
 def before_attempt(samples: float) -> bool:
     """Whether the oldest sample the tempo reads (:data:`TEMPO_SAMPLES` back) precedes the
     attempt, which holds ``samples`` samples with this one (a new gesture's samples since the
@@ -122,14 +126,16 @@ def before_attempt(samples: float) -> bool:
     There the template was at its first state and the input at the anchor, as from rest: at a
     restart every template is put back at its first state, so its followed state kept from
     before belongs to the attempt that ended, and the input's way there to the gesture that
-    ended (see the module docstring)."""
+    ended (see the module docstring). Compiled: the group's tempo rules
+    (:mod:`behaviors.mop.member_validity`) call it as the follower does."""
     return samples <= TEMPO_SAMPLES
 
 
+@compiled(numba.float64(numba.float64))
 def span(samples: float) -> float:
     """Samples over which :func:`slow_take` reads the tempo where :func:`before_attempt`: the
     attempt's own (``samples`` with this one, at least 1), not :data:`TEMPO_SAMPLES`."""
-    return max(float(samples), 1.0)
+    return max(samples, 1.0)
 
 
 def slow_take(advance: float, moved: float, onset: float,
