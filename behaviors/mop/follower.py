@@ -56,7 +56,7 @@ _KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lag
             reversal.reversal_size, reversal.reversal_way, reversal.went_on, reversal.sizes_again,
             size_probe.probe_allowed, size_probe.take_probe,
             fresh_refusal.refuse, speed_profile.outpaces, speed_profile.turns_on,
-            halts.halts, tempo.before_attempt, tempo.span)
+            halts.halts, tempo.before_attempt, tempo.span, tempo.slow_take)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,

@@ -32,7 +32,7 @@ class Validity:
         then, x0, _ = self._tempo_past[0]
         was = float(then[k])
         n = self._shape_n if samples is None else samples
-        span = tempo.TEMPO_SAMPLES
+        span = float(tempo.TEMPO_SAMPLES)
         if tempo.before_attempt(float(n)):
             # (... over the attempt's own samples: tempo.span)
             x0, was, span = self._anchor, 0.0, tempo.span(float(n))

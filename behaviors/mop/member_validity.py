@@ -275,9 +275,9 @@ def slow_of(i: int, k: int, state: float, x: np.ndarray, past_x: np.ndarray,
     for c in range(x.shape[1]):
         r = (x[i, c] - (anchor[i, c] if fresh else past_x[a, i, c])) / (scale[k, c0 + c] * size)
         tot += r * r
-    return (math.sqrt(tot / dims) >= onset
-            and abs(state - (0.0 if fresh else past_g[a, k]))
-            < LEAST_TEMPO * (tempo_rules.span(samples) if fresh else w))
+    return tempo_rules.slow_take(state - (0.0 if fresh else past_g[a, k]),
+                                 math.sqrt(tot / dims), onset,
+                                 tempo_rules.span(samples) if fresh else float(w))
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
@@ -317,8 +317,8 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
                 tot += r * r
             moved = math.sqrt(tot / dims[i])
             advance = min(mean[gb], lengths[gb] - 1.0) - (0.0 if fresh else past_g[a, gb])
-            if moved >= onset and abs(advance) < LEAST_TEMPO * (tempo_rules.span(samples[i])
-                                                                if fresh else w):
+            if tempo_rules.slow_take(advance, moved, onset,
+                                     tempo_rules.span(samples[i]) if fresh else float(w)):
                 leads[i] = False
                 slow = True
             hovers = moved < onset and abs(advance) < LEAST_TEMPO * w and drive_k[i] != best[i]

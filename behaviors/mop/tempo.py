@@ -138,15 +138,15 @@ def span(samples: float) -> float:
     return max(samples, 1.0)
 
 
-def slow_take(advance: float, moved: float, onset: float,
-              samples: float = TEMPO_SAMPLES) -> bool:
+@compiled(numba.boolean(numba.float64, numba.float64, numba.float64, numba.float64))
+def slow_take(advance: float, moved: float, onset: float, samples: float) -> bool:
     """Whether a new action is taken too slowly to be performed: over the last ``samples``
     (:data:`TEMPO_SAMPLES`, or the attempt's own: :func:`span`) its followed state moved
     ``advance`` states (either way), fewer than :data:`LEAST_TEMPO` per sample, while the input
     moved ``moved`` (RMS per column, in the template's spread at its estimated size) by at least
     ``onset``. A performer goes at 0.5-2x the recorded tempo; a template whose followed state
     crawls while the input sweeps on is being stretched over a path that is not its own (see the
-    module docstring)."""
+    module docstring). Compiled, as :func:`before_attempt`."""
     return LEAST_TEMPO > 0 and moved >= onset and abs(advance) < LEAST_TEMPO * samples
 
 
