@@ -51,6 +51,19 @@ def prefetch(typingctx, array, index):
     return sig, codegen
 
 
+@intrinsic
+def fma(typingctx, a, b, c):
+    """``a * b + c`` rounded once (``llvm.fma``; float64 or float32, all three of one type):
+    what the compiler makes of ``v += a * b`` under :data:`CONTRACT`, but in an order it cannot
+    choose (of a sum of products, it fuses whichever product it likes with the rest)."""
+    def codegen(context, builder, signature, args):
+        width = "f64" if args[0].type == ir.DoubleType() else "f32"
+        fn = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(args[0].type, [args[0].type] * 3), f"llvm.fma.{width}")
+        return builder.call(fn, args)
+    return a(a, b, c), codegen
+
+
 #: The integer of a float's width, and the LLVM type of the float (the bit casts below).
 _WIDTHS = {types.float64: (types.int64, ir.DoubleType()),
            types.float32: (types.int32, ir.FloatType())}

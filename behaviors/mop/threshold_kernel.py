@@ -16,6 +16,7 @@ from numba.extending import intrinsic
 import behaviors.mop.compiled
 from behaviors.mop import threshold
 from behaviors.mop.compiled import CONTRACT, exp_neg32
+from behaviors.mop.compiled import fma as _fma
 from behaviors.mop.threshold import MIRROR_KEEP, MIRROR_MOVES, TINY
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY
 from behaviors.kernel_cache import compiled
@@ -62,18 +63,6 @@ def _larger(typingctx, a, b):
             builder.module, ir.FunctionType(args[0].type, [args[0].type] * 2), "llvm.maxnum.f32")
         return builder.call(fn, args, fastmath=("nnan", "nsz"))
     return a(a, b), codegen
-
-
-@intrinsic
-def _fma(typingctx, a, b, c):
-    """``a * b + c`` of float32 values rounded once (``llvm.fma``): what the compiler makes
-    of ``v += a * b`` under :data:`~behaviors.mop.compiled.CONTRACT`, but in an order it
-    cannot choose."""
-    def codegen(context, builder, signature, args):
-        fn = cgutils.get_or_insert_function(
-            builder.module, ir.FunctionType(args[0].type, [args[0].type] * 3), "llvm.fma.f32")
-        return builder.call(fn, args)
-    return a(a, b, c), codegen
 
 
 @compiled(numba.float64(_S1), *_CALLS_INTO, fastmath=CONTRACT | {"reassoc"})

@@ -5,7 +5,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.compiled import exp_neg, exp_neg32
+from behaviors.mop.compiled import exp_neg, exp_neg32, fma
 
 
 def _elementwise(fn):
@@ -27,6 +27,19 @@ def test_the_forward_exponential_is_within_two_ulp_of_the_library_over_its_range
     rel = np.abs(got - want) / want
     assert rel.max() <= 4.5e-16, x[np.argmax(rel)]     # 2 ulp
     assert got[-4] == 1.0 and np.all(np.diff(got[:400_001]) <= 0)   # exact at 0, monotone
+
+
+def test_fma_rounds_once_in_either_width():
+    # (1 + e)^2 - (1 + 2e) = e^2 exactly, lost to the product's own rounding when it is rounded
+    @numba.njit
+    def fused(a, b, c):
+        return fma(a, b, c)
+
+    for width, e in ((np.float64, 2.0 ** -30), (np.float32, 2.0 ** -12)):
+        a, c = width(1.0 + e), width(-(1.0 + 2.0 * e))
+        got = fused(a, a, c)
+        assert got == e * e
+        assert a * a + c == 0.0   # (rounded twice)
 
 
 def test_the_single_precision_exponential_is_within_two_ulp_over_its_range():

@@ -219,3 +219,41 @@ def test_the_follow_commands_tolerance_and_refusal_stay_the_templates_own_beside
     assert 20 <= sum(refused[0]) <= len(x) - 20 and refused[0] == refused[1]
     with pytest.raises(TemplateError, match="still_scale must be 2 non-negative"):
         ActionFollower(gestures, still_scale=[0.01])
+
+
+
+def test_the_window_transitions_add_the_move_back_in_the_order_of_two_passes():
+    # window_kernel._transit's one pass: from the fourth state on, each product fused in the
+    # order the compiler contracted the sum of the moves forward and then the move back in a
+    # second pass (fma(f0, x[t], f1 x[t - 1]), f2, f3, then back): the same numbers to the bit
+    # as the two passes (checked against them inside step_windows on DESIGN's states and on
+    # windows of 2-45 states); here against that order in exact rational arithmetic
+    from fractions import Fraction
+
+    import numba
+    from behaviors.mop.window_kernel import _transit
+
+    def fma(a: float, b: float, c: float) -> float:
+        return float(Fraction(a) * Fraction(b) + Fraction(c))   # (rounded once, to nearest)
+
+    @numba.njit
+    def one_pass(x, y, n, back, f):
+        _transit(x, y, n, back, f, False, False)
+
+    rng = np.random.default_rng(11)
+    fused = 0
+    for n in (4, 5, 17, 31):
+        for _ in range(20):
+            x = rng.random(32) ** 3
+            f = np.array([0.3, 0.35, 0.25, 0.1]) * rng.uniform(0.5, 1.5, 4)
+            back = float(rng.uniform(0.0, 0.3))
+            got = np.zeros(32)
+            one_pass(x, got, n, back, f)
+            for t in range(3, n):
+                want = fma(f[3], x[t - 3], fma(f[2], x[t - 2], fma(f[0], x[t], f[1] * x[t - 1])))
+                if t + 1 < n:
+                    want = fma(back, x[t + 1], want)
+                assert got[t] == want, (n, t)
+                fused += want != ((f[0] * x[t] + f[1] * x[t - 1] + f[2] * x[t - 2]
+                                   + f[3] * x[t - 3]) + (back * x[t + 1] if t + 1 < n else 0.0))
+    assert fused > 100   # (the order matters: rounded op by op, most rows differ)
