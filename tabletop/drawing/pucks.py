@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from itertools import chain
 from typing import Callable, Collection, Sequence
 
 import numpy as np
 import pygame
 
 from tabletop.drawing import halo_kernel, raster
-from tabletop.drawing.discs import discs, uncover
+from tabletop.drawing.discs import discs, uncover_drawn
 from tabletop.drawing.reading import Reading
 from tabletop.drawing.screens import font
 from tabletop.drawing.trail_kernel import trails
@@ -78,31 +79,30 @@ def under_pucks(surf: pygame.Surface, bare: pygame.Surface, pucks: Sequence[Puck
     under a puck goes under it, as the physical puck hides it, and does not light the marker
     the camera reads and the hand on it, as the halo does not (its centre is left dark). Pucks
     in ``beyond`` (past the table's edge, drawn on it) are not there: nothing is hidden. One
-    compiled call for all of them (:func:`tabletop.drawing.discs.uncover`)."""
+    compiled call for all of them (:func:`tabletop.drawing.discs.uncover_drawn`)."""
     if not drawn:
         return
     xy = [(p.x, p.y) for p in pucks if p.id not in beyond]
     if not xy:
         return
     at = np.array(xy, dtype=np.float64)
-    px = to_screen.points(at)
-    radii = radius_m * np.hypot(*(to_screen.points(at + (0.01, 0.0)) - px).T) / 0.01
     parts = [q for r in drawn for q in getattr(r, "parts", (r,))]   # (a union's own parts)
-    Rect = pygame.Rect
-    q = [(x, y, r) for (x, y), r in zip(px.tolist(), radii.tolist())
-         if 0.0 < r and abs(x) < 30000.0 and abs(y) < 30000.0       # (NaN fails too)
-         and Rect(int(x - r) - 1, int(y - r) - 1, int(2 * r) + 3, int(2 * r) + 3
-                  ).collidelist(parts) >= 0]
-    if not q:
-        return
     view = raster.pixels(bare)
     if view is None or bare.get_size() != surf.get_size():   # (not the view's own table)
-        for x, y, r in q:
-            raster.draw(surf, discs, np.array([(x, y)]), r,
-                        rgb(bare.get_at((min(max(int(x), 0), bare.get_width() - 1),
-                                         min(max(int(y), 0), bare.get_height() - 1)))[:3]))
+        px = to_screen.points(at)
+        radii = radius_m * np.hypot(*(to_screen.points(at + (0.01, 0.0)) - px).T) / 0.01
+        Rect = pygame.Rect
+        for (x, y), r in zip(px.tolist(), radii.tolist()):
+            if 0.0 < r and abs(x) < 30000.0 and abs(y) < 30000.0 and Rect(  # (NaN fails too)
+                    int(x - r) - 1, int(y - r) - 1, int(2 * r) + 3, int(2 * r) + 3
+                    ).collidelist(parts) >= 0:
+                raster.draw(surf, discs, np.array([(x, y)]), r, rgb(bare.get_at(
+                    (min(max(int(x), 0), bare.get_width() - 1),
+                     min(max(int(y), 0), bare.get_height() - 1)))[:3]))
         return
-    raster.draw(surf, uncover, view[0], view[1], np.array(q, dtype=np.float64))
+    # (a Rect iterates as x, y, width, height)
+    rects = np.fromiter(chain.from_iterable(parts), np.int64, 4 * len(parts)).reshape(-1, 4)
+    raster.draw(surf, uncover_drawn, view[0], view[1], at, to_screen.H, float(radius_m), rects)
 
 
 def state_color(state: str, beyond: bool = False) -> Color:
