@@ -75,35 +75,80 @@ def _bare(pix: np.ndarray, fmt: np.ndarray, bare: np.ndarray, bare_fmt: np.ndarr
     put(pix, x, y, pen(fmt, col), cov)
 
 
+@kernel(inline="always")
+def _uncover(pix: np.ndarray, fmt: np.ndarray, bare: np.ndarray, bare_fmt: np.ndarray,
+             same: bool, cx: float, cy: float, r: float) -> None:
+    """The bare table put back in the disc of radius ``r`` px around (cx, cy) (see
+    :func:`uncover`; ``same``: ``pix`` and ``bare`` have one format)."""
+    if not (r > 0.0 and -30000.0 < cx < 30000.0 and -30000.0 < cy < 30000.0):
+        return
+    W, H = pix.shape[0], pix.shape[1]
+    e = r + 0.5
+    y0, y1 = max(0, int(math.floor(cy - e))), min(H - 1, int(math.ceil(cy + e)))
+    inner = max(0.0, r - 0.5)
+    inner2, outer2 = inner * inner, e * e
+    for y in range(y0, y1 + 1):
+        dy = y - cy
+        xa, xb, ia, ib = row_span(cx, dy, inner2, outer2, W)
+        for x in range(xa, min(ia, xb + 1)):
+            dx = x - cx
+            _bare(pix, fmt, bare, bare_fmt, x, y, e - math.sqrt(dx * dx + dy * dy))
+        if same:                             # (the view's own table: its pixels as they are)
+            for x in range(ia, ib + 1):
+                pix[x, y] = bare[x, y]
+        else:
+            for x in range(ia, ib + 1):
+                _bare(pix, fmt, bare, bare_fmt, x, y, 1.0)
+        for x in range(max(ib + 1, xa), xb + 1):
+            dx = x - cx
+            _bare(pix, fmt, bare, bare_fmt, x, y, e - math.sqrt(dx * dx + dy * dy))
+
+
+@kernel(inline="always")
+def _same(fmt: np.ndarray, bare_fmt: np.ndarray) -> bool:
+    return (fmt[0] == bare_fmt[0] and fmt[1] == bare_fmt[1] and fmt[2] == bare_fmt[2]
+            and fmt[3] == bare_fmt[3])
+
+
 @kernel
 def uncover(pix: np.ndarray, fmt: np.ndarray, bare: np.ndarray, bare_fmt: np.ndarray,
             q: np.ndarray) -> None:
     """The bare table (``bare``: pixels of the same size, format ``bare_fmt``) put back in a
     disc at each row of ``q`` (N x 3: centre x, y and radius, px), filled as :func:`disc`
     fills, its rim blended by coverage: what was drawn there is gone, a puck's top left dark."""
-    W, H = pix.shape[0], pix.shape[1]
-    same = (fmt[0] == bare_fmt[0] and fmt[1] == bare_fmt[1] and fmt[2] == bare_fmt[2]
-            and fmt[3] == bare_fmt[3])
+    same = _same(fmt, bare_fmt)
     for i in range(q.shape[0]):
-        cx, cy, r = q[i, 0], q[i, 1], q[i, 2]
+        _uncover(pix, fmt, bare, bare_fmt, same, q[i, 0], q[i, 1], q[i, 2])
+
+
+@kernel
+def uncover_drawn(pix: np.ndarray, fmt: np.ndarray, bare: np.ndarray, bare_fmt: np.ndarray,
+                  at: np.ndarray, H: np.ndarray, radius_m: float, drawn: np.ndarray) -> None:
+    """:func:`uncover` for pucks at ``at`` (N x 2 table metres; ``H``: table metres -> px), each
+    a disc of its rim (``radius_m`` metres, in px as the map scales it there), where its square
+    (1 px more on every side) meets a rectangle of ``drawn`` (M x 4: x, y, width, height px;
+    met as a pygame Rect is: an empty one meets nothing): the others lie on the bare table
+    already. Mapped and tested in Python (two mappings, a Rect and ``collidelist`` per puck)
+    this was half of the pucks' uncovering time (0.30 of 0.59 ms a frame, bench/view.py's busy
+    table under load); the mapping is the one :meth:`tabletop.table_map.TableToScreen.points`
+    makes, to the bit (bench/view.py's scenes: the same pixels)."""
+    same = _same(fmt, bare_fmt)
+    for i in range(at.shape[0]):
+        x, y = at[i, 0], at[i, 1]
+        w0 = H[2, 0] * x + H[2, 1] * y + H[2, 2]
+        cx = (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w0
+        cy = (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w0
+        bx = x + 0.01
+        w1 = H[2, 0] * bx + H[2, 1] * y + H[2, 2]
+        ex = (H[0, 0] * bx + H[0, 1] * y + H[0, 2]) / w1 - cx
+        ey = (H[1, 0] * bx + H[1, 1] * y + H[1, 2]) / w1 - cy
+        r = radius_m * math.hypot(ex, ey) / 0.01
         if not (r > 0.0 and -30000.0 < cx < 30000.0 and -30000.0 < cy < 30000.0):
             continue
-        e = r + 0.5
-        y0, y1 = max(0, int(math.floor(cy - e))), min(H - 1, int(math.ceil(cy + e)))
-        inner = max(0.0, r - 0.5)
-        inner2, outer2 = inner * inner, e * e
-        for y in range(y0, y1 + 1):
-            dy = y - cy
-            xa, xb, ia, ib = row_span(cx, dy, inner2, outer2, W)
-            for x in range(xa, min(ia, xb + 1)):
-                dx = x - cx
-                _bare(pix, fmt, bare, bare_fmt, x, y, e - math.sqrt(dx * dx + dy * dy))
-            if same:                             # (the view's own table: its pixels as they are)
-                for x in range(ia, ib + 1):
-                    pix[x, y] = bare[x, y]
-            else:
-                for x in range(ia, ib + 1):
-                    _bare(pix, fmt, bare, bare_fmt, x, y, 1.0)
-            for x in range(max(ib + 1, xa), xb + 1):
-                dx = x - cx
-                _bare(pix, fmt, bare, bare_fmt, x, y, e - math.sqrt(dx * dx + dy * dy))
+        x0, y0, n = int(cx - r) - 1, int(cy - r) - 1, int(2 * r) + 3
+        for k in range(drawn.shape[0]):
+            dx, dy, dw, dh = drawn[k, 0], drawn[k, 1], drawn[k, 2], drawn[k, 3]
+            if dw != 0 and dh != 0 and x0 < max(dx, dx + dw) and min(dx, dx + dw) < x0 + n \
+                    and y0 < max(dy, dy + dh) and min(dy, dy + dh) < y0 + n:
+                _uncover(pix, fmt, bare, bare_fmt, same, cx, cy, r)
+                break

@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from itertools import chain
 from typing import Callable, Collection, Sequence
 
 import numpy as np
 import pygame
 
 from tabletop.drawing import halo_kernel, raster
-from tabletop.drawing.discs import discs, uncover
+from tabletop.drawing.discs import discs, uncover_drawn
 from tabletop.drawing.reading import Reading
 from tabletop.drawing.screens import font
 from tabletop.drawing.trail_kernel import trails
@@ -78,31 +79,30 @@ def under_pucks(surf: pygame.Surface, bare: pygame.Surface, pucks: Sequence[Puck
     under a puck goes under it, as the physical puck hides it, and does not light the marker
     the camera reads and the hand on it, as the halo does not (its centre is left dark). Pucks
     in ``beyond`` (past the table's edge, drawn on it) are not there: nothing is hidden. One
-    compiled call for all of them (:func:`tabletop.drawing.discs.uncover`)."""
+    compiled call for all of them (:func:`tabletop.drawing.discs.uncover_drawn`)."""
     if not drawn:
         return
     xy = [(p.x, p.y) for p in pucks if p.id not in beyond]
     if not xy:
         return
     at = np.array(xy, dtype=np.float64)
-    px = to_screen.points(at)
-    radii = radius_m * np.hypot(*(to_screen.points(at + (0.01, 0.0)) - px).T) / 0.01
     parts = [q for r in drawn for q in getattr(r, "parts", (r,))]   # (a union's own parts)
-    Rect = pygame.Rect
-    q = [(x, y, r) for (x, y), r in zip(px.tolist(), radii.tolist())
-         if 0.0 < r and abs(x) < 30000.0 and abs(y) < 30000.0       # (NaN fails too)
-         and Rect(int(x - r) - 1, int(y - r) - 1, int(2 * r) + 3, int(2 * r) + 3
-                  ).collidelist(parts) >= 0]
-    if not q:
-        return
     view = raster.pixels(bare)
     if view is None or bare.get_size() != surf.get_size():   # (not the view's own table)
-        for x, y, r in q:
-            raster.draw(surf, discs, np.array([(x, y)]), r,
-                        rgb(bare.get_at((min(max(int(x), 0), bare.get_width() - 1),
-                                         min(max(int(y), 0), bare.get_height() - 1)))[:3]))
+        px = to_screen.points(at)
+        radii = radius_m * np.hypot(*(to_screen.points(at + (0.01, 0.0)) - px).T) / 0.01
+        Rect = pygame.Rect
+        for (x, y), r in zip(px.tolist(), radii.tolist()):
+            if 0.0 < r and abs(x) < 30000.0 and abs(y) < 30000.0 and Rect(  # (NaN fails too)
+                    int(x - r) - 1, int(y - r) - 1, int(2 * r) + 3, int(2 * r) + 3
+                    ).collidelist(parts) >= 0:
+                raster.draw(surf, discs, np.array([(x, y)]), r, rgb(bare.get_at(
+                    (min(max(int(x), 0), bare.get_width() - 1),
+                     min(max(int(y), 0), bare.get_height() - 1)))[:3]))
         return
-    raster.draw(surf, uncover, view[0], view[1], np.array(q, dtype=np.float64))
+    # (a Rect iterates as x, y, width, height)
+    rects = np.fromiter(chain.from_iterable(parts), np.int64, 4 * len(parts)).reshape(-1, 4)
+    raster.draw(surf, uncover_drawn, view[0], view[1], at, to_screen.H, float(radius_m), rects)
 
 
 def state_color(state: str, beyond: bool = False) -> Color:
@@ -250,10 +250,38 @@ def label_place(reading: Reading, size: tuple[int, int], centre: tuple[int, int]
     right and lower left that lies whole in ``window``, else moved into it. A table filling
     the projector's image put the id of a puck within a halo of its far or right edge out of
     the window: the designer saw a ring without its id."""
+    x, y = centre
+    if type(x) is not int or type(y) is not int:
+        return _place(_sides(reading, size, r, centre), 0, 0, window)
+    key = (reading.right, reading.up, size, r)
+    sides = _label_sides.get(key)
+    if sides is None:
+        sides = remember(_label_sides, key, _sides(reading, size, r, (0, 0)), 1024)
+    return _place(sides, x, y, window)
+
+
+# Where an id stands on each side of a halo about pixel (0, 0), by reading, size and radius:
+# about a whole pixel (x, y) it is the same moved by (x, y) (the sides' offsets are multiples
+# of 1/4 px: the sums are exact, and floor(x + d) = x + floor(d)); every puck's id is placed
+# every frame (the overlay shown), and placed anew each time its four sides were 0.08-0.10 ms
+# of a busy frame under load
+_label_sides: dict[tuple, list[pygame.Rect]] = {}
+
+
+def _sides(reading: Reading, size: tuple[int, int], r: int,
+           centre: tuple[float, float]) -> list[pygame.Rect]:
+    """The id's rectangle on each side of :data:`_SIDES` of the halo about ``centre``."""
+    return [reading.at(size, reading.offset(centre, right * 0.75 * r, up * r),
+                       (0.0 if right > 0 else 1.0, 0.6 if up > 0 else 0.4))
+            for right, up in _SIDES]
+
+
+def _place(sides: list[pygame.Rect], x: int, y: int, window: pygame.Rect) -> pygame.Rect:
+    """The first of ``sides`` moved by (``x``, ``y``) px whole in ``window``, else the first
+    moved into it."""
     first = None
-    for right, up in _SIDES:
-        rect = reading.at(size, reading.offset(centre, right * 0.75 * r, up * r),
-                          (0.0 if right > 0 else 1.0, 0.6 if up > 0 else 0.4))
+    for q in sides:
+        rect = q.move(x, y)
         if window.contains(rect):
             return rect
         first = first or rect

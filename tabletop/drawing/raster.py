@@ -97,7 +97,7 @@ def warm() -> None:
     import pygame
 
     from tabletop.drawing.character_kernel import CREATURE, face, figure, reactor
-    from tabletop.drawing.discs import discs, uncover
+    from tabletop.drawing.discs import discs, uncover, uncover_drawn
     from tabletop.drawing.trail_kernel import trails
     surf = pygame.Surface((64, 64), 0, 32)
     q = np.array([(10.0, 10.0), (20.0, 30.0), (30.0, 20.0)])
@@ -113,6 +113,8 @@ def warm() -> None:
     draw(surf, discs, q, 2.0, 1)
     bare = pygame.Surface((64, 64), 0, 32)
     draw(surf, uncover, *pixels(bare), np.array([(30.0, 30.0, 5.0)]))
+    draw(surf, uncover_drawn, *pixels(bare), np.array([(0.3, 0.3)]), np.eye(3) * 100.0, 0.05,
+         np.array([(20, 20, 5, 5)], dtype=np.int64))
     path = np.array([(0.1, 0.1, 0.0), (0.2, 0.3, 0.5), (0.3, 0.2, 1.0)])
     draw(surf, trails, path, np.array([0, 3], dtype=np.int64), np.eye(3) * 100.0,
          np.array([(30.0, 30.0)]), np.array([5.0]), np.ones((1, 3), dtype=np.int64), 0.6, 0.3,

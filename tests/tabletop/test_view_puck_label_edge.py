@@ -44,3 +44,24 @@ def test_a_pucks_id_is_drawn_whole_beside_its_ring_wherever_the_puck_is(x, y):
     # window), 58-60 after; 56-80 wherever it was whole before; all within 70 px of the puck
     assert len(rows) >= 40
     assert np.hypot(cols - px, rows - py).max() < 90
+
+
+def test_an_id_about_a_whole_pixel_is_placed_as_worked_out_there():
+    """The sides worked out once about pixel (0, 0) and moved to a puck's whole pixel place
+    every id as working them out at its place does (a float centre: worked out there), in
+    every orientation, in and out of the window: 20,000 random placements."""
+    import random
+
+    from tabletop.drawing.pucks import label_place
+    from tabletop.drawing.reading import _ORIENTATIONS, Reading
+    rnd = random.Random(5)
+    moved = 0
+    for _ in range(20000):
+        reading = Reading(*rnd.choice(_ORIENTATIONS))
+        size, r = (rnd.randint(5, 60), rnd.randint(5, 60)), rnd.randint(0, 80)
+        x, y = rnd.randint(-100, 1400), rnd.randint(-100, 800)
+        window = pygame.Rect(0, 0, rnd.choice([1280, 800, 100]), rnd.choice([720, 600, 90]))
+        at = label_place(reading, size, (x, y), r, window)
+        assert at == label_place(reading, size, (float(x), float(y)), r, window)
+        moved += not window.contains(at)
+    assert moved < 20000

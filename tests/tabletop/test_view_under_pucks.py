@@ -125,3 +125,33 @@ def test_a_bare_table_the_kernel_cannot_read_is_put_back_as_its_colour_at_the_pu
     want = bare.get_at((cx, cy))[:3]
     assert tuple(target.get_at((cx + 20, cy))[:3]) == tuple(want)
     assert tuple(target.get_at((cx + 30, cy))[:3]) == (250, 200, 10)
+
+
+def test_a_puck_is_uncovered_where_its_square_meets_a_drawn_rectangle_as_pygame_meets_them():
+    """The compiled mapping and test of which pucks to uncover (one call for all of them) meet
+    rectangles as pygame's ``Rect.collidelist`` did: 400 random pucks against random rectangles
+    (empty, negative, touching edges) uncover exactly the discs whose square meets one."""
+    from tabletop.drawing import raster
+    from tabletop.drawing.discs import uncover, uncover_drawn
+    rng = np.random.default_rng(7)
+    bare = pygame.Surface((96, 96), 0, 32)
+    bare.fill((20, 40, 90))
+    H = np.array([[800.0, 0.0, 12.0], [0.0, -800.0, 90.0], [0.0, 0.0, 1.0]])
+    met = 0
+    for _ in range(400):
+        x, y, radius_m = rng.uniform(-0.03, 0.13), rng.uniform(-0.01, 0.13), rng.uniform(0, 0.015)
+        cx, cy = 800.0 * x + 12.0, -800.0 * y + 90.0
+        r = radius_m * 800.0
+        rects = [pygame.Rect(*rng.integers(-20, 100, 2), *rng.integers(-4, 30, 2))
+                 for _ in range(int(rng.integers(1, 4)))]
+        want = pygame.Surface((96, 96), 0, 32)
+        want.fill((250, 200, 10))
+        got = want.copy()
+        box = pygame.Rect(int(cx - r) - 1, int(cy - r) - 1, int(2 * r) + 3, int(2 * r) + 3)
+        if box.collidelist(rects) >= 0:
+            raster.draw(want, uncover, *raster.pixels(bare), np.array([(cx, cy, r)]))
+            met += 1
+        raster.draw(got, uncover_drawn, *raster.pixels(bare), np.array([(x, y)]), H, radius_m,
+                    np.array([tuple(q) for q in rects], dtype=np.int64).reshape(-1, 4))
+        assert np.array_equal(pygame.surfarray.array2d(got), pygame.surfarray.array2d(want))
+    assert 20 < met < 380
