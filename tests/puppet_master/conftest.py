@@ -2,8 +2,9 @@
 
 The shipped library's demonstrations (behaviors/library) are trained by most of these tests:
 through the plugin's build, demos.shipped and the tests' own calls, the same five
-demonstrations with the same parameters were trained 267 times in one process (~13 CPU s of
-the folder's ~120, each 0.03-0.09 s). A Behavior is shared read-only by any number of
+demonstrations with the same parameters were trained 267 times in one process running this
+folder and tests/studio (11.7 CPU s beyond each one's first training, of the two folders'
+~180). A Behavior is shared read-only by any number of
 reactors (behavior.py), so while a test of this folder runs, Behavior.train gives the
 behaviour trained before for the same shipped demonstration and parameters; any other
 demonstration (synthetic, edited, a take) is trained afresh every time, as are calls that
