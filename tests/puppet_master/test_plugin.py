@@ -1,6 +1,7 @@
 """The ``puppet_master`` engine on the bus: config, bindings, several reactors (designer mode:
 tests/studio)."""
 
+import functools
 import math
 from pathlib import Path
 
@@ -42,13 +43,28 @@ def run(engines, frames):
 
 
 def visitor_frames(seconds: float, rate: float = 60.0, seed: int = 3, t0: float = 50.0):
+    """The frames of two scripted visitors' pucks (1, 2) over ``seconds``: an iterator over
+    frames made once a process for each set of arguments (frames are frozen; the visitors'
+    poses were 0.14 CPU s a minute of frames, asked for again by most tests here)."""
+    return iter(_visitor_frames(seconds, rate, seed, t0))
+
+
+@functools.lru_cache(maxsize=16)
+def _visitor_frames(seconds: float, rate: float, seed: int, t0: float) -> tuple[Frame, ...]:
     v = ScriptedVisitor(TABLE, [1, 2], seed=seed)
-    for i in range(int(seconds * rate)):
-        t = i / rate
-        yield Frame(seq=i, t=t0 + t, pucks=tuple(Puck(pid, x, y, a) for pid, x, y, a in v.poses(t)))
+    return tuple(Frame(seq=i, t=t0 + i / rate,
+                       pucks=tuple(Puck(pid, x, y, a) for pid, x, y, a in v.poses(i / rate)))
+                 for i in range(int(seconds * rate)))
 
 
 def main_track(seconds, rate=60.0, seed=3):
+    """Poses (x, y, angle) of a scripted visitor's puck 1 alone, ``seconds`` at ``rate``:
+    made once a process for each set of arguments, a fresh array each call."""
+    return _main_track(seconds, rate, seed).copy()
+
+
+@functools.lru_cache(maxsize=16)
+def _main_track(seconds, rate, seed) -> np.ndarray:
     v = ScriptedVisitor(TABLE, [1], seed=seed)
     return np.array([v.poses(i / rate)[0][1:] for i in range(int(seconds * rate))])
 
