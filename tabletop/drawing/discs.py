@@ -34,16 +34,24 @@ def row_span(cx: float, dy: float, inner2: float, outer2: float, W: int) -> tupl
     return xa, xb, ia, ib
 
 
+@kernel(inline="always")
+def disc_rows(pix: np.ndarray, cy: float, r: float) -> tuple[int, int, int, float, float, float]:
+    """The rows a disc of radius ``r`` px around height ``cy`` touches on ``pix``: (W, y0, y1,
+    e, inner2, outer2): the surface's width, the first and last row, the outer radius ``e`` and
+    the squares of the fully covered and outer radii (for :func:`row_span`)."""
+    W, H = pix.shape[0], pix.shape[1]
+    e = r + 0.5
+    y0, y1 = max(0, int(math.floor(cy - e))), min(H - 1, int(math.ceil(cy + e)))
+    inner = max(0.0, r - 0.5)
+    return W, y0, y1, e, inner * inner, e * e
+
+
 @kernel
 def disc(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, col: int) -> None:
     """A filled disc of radius ``r`` px around (cx, cy), its rim anti-aliased."""
     if not (r > 0.0 and -30000.0 < cx < 30000.0 and -30000.0 < cy < 30000.0):
         return
-    W, H = pix.shape[0], pix.shape[1]
-    e = r + 0.5
-    y0, y1 = max(0, int(math.floor(cy - e))), min(H - 1, int(math.ceil(cy + e)))
-    inner = max(0.0, r - 0.5)
-    inner2, outer2 = inner * inner, e * e
+    W, y0, y1, e, inner2, outer2 = disc_rows(pix, cy, r)
     ink = pen(fmt, col)
     for y in range(y0, y1 + 1):
         dy = y - cy
@@ -82,11 +90,7 @@ def _uncover(pix: np.ndarray, fmt: np.ndarray, bare: np.ndarray, bare_fmt: np.nd
     :func:`uncover`; ``same``: ``pix`` and ``bare`` have one format)."""
     if not (r > 0.0 and -30000.0 < cx < 30000.0 and -30000.0 < cy < 30000.0):
         return
-    W, H = pix.shape[0], pix.shape[1]
-    e = r + 0.5
-    y0, y1 = max(0, int(math.floor(cy - e))), min(H - 1, int(math.ceil(cy + e)))
-    inner = max(0.0, r - 0.5)
-    inner2, outer2 = inner * inner, e * e
+    W, y0, y1, e, inner2, outer2 = disc_rows(pix, cy, r)
     for y in range(y0, y1 + 1):
         dy = y - cy
         xa, xb, ia, ib = row_span(cx, dy, inner2, outer2, W)
