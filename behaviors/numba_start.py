@@ -10,6 +10,10 @@ installation itself never imports SciPy. :func:`install` hides SciPy while those
 run (unless something imported it before), so both find it absent, as on a machine without
 it. A kernel that did call ``np.dot`` still compiles: numba imports SciPy's BLAS then. (While
 those two modules run, another thread's import of SciPy would fail: the installation has none.)
+
+numba's cache also refreshes its target before every load of a cached kernel: it imports and
+installs every lowering and typing registry numba has, which machine code loaded from a cache
+does not use (:func:`quick_loads`).
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ class _WithoutScipy:
 
     def find_spec(self, name: str, path: Sequence[str] | None,
                   target: ModuleType | None = None) -> Any:
-        if name not in LOOKING or "scipy" in sys.modules:
+        if name not in LOOKING:
             return None
         spec = importlib.machinery.PathFinder.find_spec(name, path)
         if spec is None or not hasattr(spec.loader, "exec_module"):
@@ -47,6 +51,8 @@ class _WithoutScipy:
             finally:
                 if hidden and sys.modules.get("scipy", 0) is None:
                     del sys.modules["scipy"]
+            if name == "numba":
+                quick_loads()
 
         spec.loader.exec_module = exec_module  # type: ignore[union-attr]
         return spec
@@ -58,3 +64,32 @@ def install() -> None:
         return
     if not any(isinstance(f, _WithoutScipy) for f in sys.meta_path):
         sys.meta_path.insert(0, _WithoutScipy())
+
+
+def quick_loads() -> None:
+    """numba's load of a cached kernel without its refresh of the target (once a process).
+
+    numba refreshes the target before every load: the first one imports and installs every
+    lowering and typing registry it has, 0.2 of the ~1.3 CPU s a `tabletop run` takes to start
+    (the drawing's first kernel 0.50 -> 0.28 CPU s in-process). Machine code loaded from a
+    cache needs none of them, only numba's runtime (NRT: the symbols of the arrays a kernel
+    makes), initialised here: a compile refreshes the target itself (numba's compiler does,
+    before typing), and the modules a loaded kernel's globals live in are imported as its
+    environment is unpickled. A load that fails so is made again as numba's own (refreshed)."""
+    from numba.core import caching
+    from numba.core.runtime import rtsys
+
+    full = caching.Cache.load_overload
+    if getattr(full, "quick", False):
+        return
+
+    def load_overload(self: Any, sig: Any, target_context: Any) -> Any:
+        rtsys.initialize(target_context)
+        try:
+            with self._guard_against_spurious_io_errors():
+                return self._load_overload(sig, target_context)
+        except Exception:   # (a symbol only a registry adds; or damage, which numba's says)
+            return full(self, sig, target_context)
+
+    load_overload.quick = True  # type: ignore[attr-defined]
+    caching.Cache.load_overload = load_overload

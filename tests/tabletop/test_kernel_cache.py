@@ -5,6 +5,7 @@ took in from another file; the drawing's shape kernels share one stamp of all th
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
 import os
 import shutil
@@ -54,10 +55,21 @@ def test_the_stamp_changes_when_any_of_the_files_changes(tmp_path, monkeypatch):
         assert kernel_cache.stamp() == first, name     # the same contents: the same stamp
 
 
+def _statements(nodes: list[ast.stmt]):
+    """Every statement of ``nodes`` and of the blocks within them: an import is always a
+    statement, so the expressions, most of a module's nodes, are not walked."""
+    for node in nodes:
+        yield node
+        for block in ("body", "orelse", "finalbody", "handlers", "cases"):
+            yield from _statements(getattr(node, block, None) or ())
+
+
+@functools.cache
 def _imported(mod) -> dict[str, str]:
-    """Each name ``mod`` takes from another of the project's modules, with that module's file."""
+    """Each name ``mod`` takes from another of the project's modules, with that module's file
+    (once a module: every kernel of it asks, 559 times for 178 kernels)."""
     found = {}
-    for node in ast.walk(ast.parse(Path(mod.__file__).read_text())):
+    for node in _statements(ast.parse(Path(mod.__file__).read_text()).body):
         if isinstance(node, ast.ImportFrom) and node.module and node.level == 0 \
                 and node.module.split(".")[0] in ("tabletop", "behaviors"):
             source = importlib.import_module(node.module)

@@ -57,11 +57,12 @@ from tabletop import cli
 code = cli.main(["run", "--config", sys.argv[1], "--headless", "--seconds", "0.3"])
 imported = sorted({m.split(".")[0] for m in sys.modules} & {"scipy", "cv2"})
 loaded = "numba.np.arraymath" in sys.modules
+refreshed = "numba.np.polynomial.polynomial_core" in sys.modules   # a registry only
 import numba
 @numba.njit
 def dot(a, b):
     return np.dot(a, b)
-print(json.dumps({"code": code, "imported": imported, "loaded": loaded,
+print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refreshed": refreshed,
                   "dot": dot(np.ones(3), np.arange(3.0))}))
 """
 
@@ -92,7 +93,8 @@ def test_a_run_without_a_camera_imports_neither_scipy_nor_opencv(tmp_path):
     array functions in), yet neither SciPy, which numba imported only to look at (0.3 of the
     run's 1.5 CPU s start; behaviors/numba_start.py), nor OpenCV, imported to check the default
     marker dictionary (0.06 s). A kernel calling np.dot still compiles after (numba imports
-    SciPy's BLAS then)."""
+    SciPy's BLAS then). Nor were numba's registries refreshed for those loads (0.2 CPU s a
+    start: behaviors/numba_start.quick_loads); the kernel compiled after refreshes them."""
     cfg = tmp_path / "scripted.yaml"
     cfg.write_text(f"""sources: [{{kind: scripted, pucks: [1, 2]}}]
 engines:
@@ -103,4 +105,5 @@ view: {{size: [320, 180]}}
     found = _run(RUN_SCRIPTED, str(cfg))
     assert found["code"] == 0 and found["loaded"]
     assert found["imported"] == []
+    assert found["refreshed"] is False
     assert found["dot"] == 3.0
