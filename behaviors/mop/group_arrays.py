@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import group_layout, members, threshold
+from behaviors.mop import group_layout, members, shape_lead, threshold
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.shape_lead import TAKE_SAMPLES
 from behaviors.mop.handover import TEMPO_END_KEEP
@@ -199,7 +199,8 @@ class GroupArrays:
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
                    "keep": lambda f: f.still_samples, "reversal_move2": lambda f: f._reversal_move2,
-                   "coverage": lambda f: f.coverage}
+                   "coverage": lambda f: f.coverage,
+                   "take_fit2": lambda f: shape_lead.TAKE_FIT ** 2}
         cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])

@@ -45,7 +45,7 @@ from behaviors.mop.commitment import add_lagged
 from behaviors.mop.rivals import BROADER
 from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.size_sums import estimate_sums
-from behaviors.mop.shape_lead import DRIFT_FROM, DRIFT_HELD_AT_REST, KEPT_COMMIT, TAKE_FIT
+from behaviors.mop.shape_lead import DRIFT_FROM, DRIFT_HELD_AT_REST, KEPT_COMMIT
 from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
                                     UNWEIGHED_AT_REST)
@@ -450,6 +450,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     and abs(shape[k] - shape[gb]) < min_lead
                     and tc[k, 0] + dims * math.log(size[k]) > spread + BROADER):
                 rival = shape[k]
-        # ... and only while its shape since the gesture began fits (ShapeLead._leads)
-        leads_out[i] = (not shape[gb] > shape_n[i] * dims * TAKE_FIT ** 2
+        # ... and only while its shape since the gesture began fits (ShapeLead._leads;
+        # m[25]: shape_lead.TAKE_FIT squared, group_layout.MEMBER_SCALARS)
+        leads_out[i] = (not shape[gb] > shape_n[i] * dims * m[25]
                         and (rival == np.inf or rival - shape[gb] >= min_lead))

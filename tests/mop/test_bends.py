@@ -4,10 +4,10 @@ on straight; the group decides it as its followers alone."""
 
 import numpy as np
 
-from bench.follow_quality import gesture_templates, puck_follower, run
+from bench.follow_quality import gesture_templates, puck_follower
 from bench.motions import performance, unrelated_motions
 from behaviors.mop import bends
-from tests.mop.helpers import group_beside_alone
+from tests.mop.helpers import group_beside_alone, run, solo
 
 
 def _diagonal(seed: int = 5, scale: float = 1.0) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -23,9 +23,9 @@ def test_the_figure_eight_is_not_shown_on_a_diagonal_before_its_bend(monkeypatch
     # 0.7 / 1 / 1.4x: 5 / 3 / 2 valid samples of 76, 9 / 6 / 4 with the rule off
     gestures = gesture_templates()
     draws = [_diagonal(scale=s)[1] for s in (0.7, 1.0, 1.4)]
-    now = sum(s.valid for x in draws for s in run(puck_follower(gestures), x))
-    monkeypatch.setattr(bends, "UNTURNED", 0.0)
-    off = sum(s.valid for x in draws for s in run(puck_follower(gestures), x))
+    now = sum(s.valid for x in draws for s in run(solo(puck_follower(gestures)), x))
+    monkeypatch.setattr(bends, "UNTURNED", 0.0)   # (the group reads it at each step)
+    off = sum(s.valid for x in draws for s in run(solo(puck_follower(gestures)), x))
     assert now <= 10 and off >= 18, (now, off)
 
 
@@ -59,9 +59,11 @@ def test_a_stroke_on_past_where_the_getup_waits_is_not_spared_by_its_growing_siz
     getup, strokes = _getup_strokes()
     performed = [performance(np.random.default_rng(seed), getup["getup"], sc)[0]
                  for seed in range(2) for sc in (0.7, 1.0, 1.2)]
-    now = [sum(s.valid for s in run(puck_follower(getup), x)) for x in strokes + performed]
-    monkeypatch.setattr(bends, "GROWN_STRAIGHT", False)
-    spared = [sum(s.valid for s in run(puck_follower(getup), x)) for x in strokes + performed]
+    now = [sum(s.valid for s in run(solo(puck_follower(getup)), x))
+           for x in strokes + performed]
+    monkeypatch.setattr(bends, "GROWN_STRAIGHT", False)   # (the group reads it at each step)
+    spared = [sum(s.valid for s in run(solo(puck_follower(getup)), x))
+              for x in strokes + performed]
     assert sum(now[:6]) <= 60 and sum(spared[:6]) >= 70, (now, spared)
     assert now[6:] == spared[6:], (now, spared)
 

@@ -11,11 +11,12 @@ import pytest
 from behaviors.mop import bends, coverage
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
-from bench.follow_quality import puck_follower, run
+from bench.follow_quality import puck_follower
 from bench.motions import gesture_templates, mocap_templates, performance, unrelated_motions
 from tabletop.cli import main as cli
 from tabletop.plugins.mop_table import EXAMPLES
 
+from tests.mop.helpers import run, solo
 from tests.mop.test_group import _step_both
 
 NAMES = ("circle", "zigzag", "figure_eight", "line", "square", "wave")
@@ -68,12 +69,10 @@ def _need(f: ActionFollower, name: str) -> float:
 def _zigzag_recognised(templates: dict) -> list[float]:
     """The zigzag's progress at its first tick valid and best (1 when never), performed from
     rest at 0.8, 1 and 1.2x, three draws each, with ``templates`` loaded as a puck's."""
-    f, rng, out = puck_follower(templates), np.random.default_rng(0), []
+    f, rng, out = solo(puck_follower(templates)), np.random.default_rng(0), []
     for scale in (0.8, 1.0, 1.2) * 3:
         x, prog = performance(rng, templates["zigzag"], scale)
-        f.reset()
-        got = [p for s, p in zip((f.step(v) for v in x), prog[:, 0])
-               if s.valid and s.best == "zigzag"]
+        got = [p for s, p in zip(run(f, x), prog[:, 0]) if s.valid and s.best == "zigzag"]
         out.append(float(got[0]) if got else 1.0)
     return out
 
@@ -161,12 +160,10 @@ def test_a_straight_start_lasts_until_the_path_leaves_its_chord():
 def _recognised(templates: dict, name: str) -> list[float]:
     """``name``'s progress at its first tick valid and best (1 when never), performed from rest
     at 0.8, 1 and 1.2x, three draws each, with ``templates`` loaded as a puck's."""
-    f, rng, out = puck_follower(templates), np.random.default_rng(0), []
+    f, rng, out = solo(puck_follower(templates)), np.random.default_rng(0), []
     for scale in (0.8, 1.0, 1.2) * 3:
         x, prog = performance(rng, templates[name], scale)
-        f.reset()
-        got = [p for s, p in zip((f.step(v) for v in x), prog[:, 0])
-               if s.valid and s.best == name]
+        got = [p for s, p in zip(run(f, x), prog[:, 0]) if s.valid and s.best == name]
         out.append(float(got[0]) if got else 1.0)
     return out
 

@@ -152,27 +152,31 @@ def test_a_new_performance_is_followed_after_the_last_one_ended():
 def test_a_long_run_stays_finite_and_accurate():
     """10,000 steps (about 5.5 minutes of input at 30 Hz); bench/mop_soak.py runs 200,000.
     Measured: the last 20 performances' RMSE at most 0.014 and the median 0.011 after 10,000
-    steps as after 20,000 (0.013 / 0.011)."""
+    steps as after 20,000 (0.013 / 0.011). Stepped as the installation steps it, the follower
+    the one member of a group (its compiled pass, a fifth of the follower's CPU alone: 1.3
+    against 6.3 s here): the same figures as the follower alone, every progress within 1.2e-16
+    and log-likelihood within 1.2e-15 of its own over the 10,000 steps."""
     rng = np.random.default_rng(13)
     tpl = g.template(rng, n=120, d=3)
-    f = ActionFollower({"a": tpl})
+    group = FollowerGroup([ActionFollower({"a": tpl})])
     steps, last_errors = 0, []
     while steps < 10_000:
         rest = _rest(rng, tpl[0], 10, tpl)
         phase = g.warped_phase(rng, len(tpl))
         perf = g.perform(rng, tpl, phase, 0.1)
         for x in rest:
-            f.step(x)
+            group.step([x])
         prog = np.empty(len(perf))
         ll = np.empty(len(perf))
         for i, x in enumerate(perf):
-            s = f.step(x)
+            s = group.step([x])[0]
             prog[i], ll[i] = s.progress, s.loglik
         steps += len(rest) + len(perf)
         assert np.all(np.isfinite(prog)) and np.all(np.isfinite(ll))
         m = len(perf) // 5
         last_errors.append(float(np.sqrt(np.mean((prog[m:] - phase[m:] / (len(tpl) - 1)) ** 2))))
-    assert np.all(np.isfinite(f.forward.alpha)) and abs(f.forward.alpha.sum() - 1.0) < 1e-9
+    alpha = group.forward.alpha
+    assert np.all(np.isfinite(alpha)) and abs(alpha.sum() - 1.0) < 1e-9
     assert max(last_errors[-20:]) <= 0.05
     assert np.median(last_errors) <= 0.03
 

@@ -8,6 +8,7 @@ from bench.follow_quality import MOCAP, puck_follower, run, true_metrics
 from bench.motions import mocap_templates, performance
 from behaviors.mop import invariance, reversal, take_rule
 from behaviors.mop.group import FollowerGroup
+from tests.mop.helpers import run as run_solo, solo
 from tests.mop.test_group import _step_both
 
 TURNING_BACK = (("punch", "right_wrist"), ("kick", "right_ankle"))
@@ -23,8 +24,8 @@ def test_a_smaller_gesture_whose_first_stroke_is_straight_is_sized_where_it_turn
     shares, now = {}, invariance.REVERSAL_FIT
     for fit in (now, 0.0):
         monkeypatch.setattr(invariance, "REVERSAL_FIT", fit)
-        f = puck_follower(templates)
-        shares[fit] = [true_metrics(run(f, x), name, prog)["valid_after30"]
+        f = solo(puck_follower(templates))   # (REVERSAL_FIT read where it is built)
+        shares[fit] = [true_metrics(run_solo(f, x), name, prog)["valid_after30"]
                        for name in ("punch_right_wrist", "kick_right_ankle")
                        for x, prog in (performance(np.random.default_rng(seed), templates[name],
                                                    0.7) for seed in range(4))]

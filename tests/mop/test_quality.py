@@ -156,15 +156,14 @@ def test_the_likeliest_actions_are_known_before_any_is_valid(gestures):
     assert not any(s.likely for s in states[6:12])
 
 
-def _unrelated_shares(gestures, grouped: bool = True, **kw):
+def _unrelated_shares(gestures, **kw):
     """Valid share of the diagonal, spiral, wander and triangle (0.7, 1.0, 1.4x) with the circle
-    alone and with the six gestures loaded (seeded); ``grouped``: stepped by a group of one
-    (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
+    alone and with the six gestures loaded (seeded), stepped by a group of one
+    (:func:`~tests.mop.helpers.solo`)."""
     out = {}
     for key, loaded in (("circle", {"circle": gestures["circle"]}), ("six", gestures)):
         rng = np.random.default_rng(11)
-        f = puck_follower(loaded, **kw)
-        f = solo(f) if grouped else f
+        f = solo(puck_follower(loaded, **kw))
         paths = unrelated_motions(rng, loaded)
         for name in ("diagonal", "spiral", "wander", "triangle"):
             shares = []
@@ -196,9 +195,9 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     # (spiral 0.18 vs 0.25, triangle 0.41 vs 0.45); no motion drives more with it. Compared
     # without shape_lead.TAKE_FIT, which now refuses most of the spiral the threshold model took
     # (0.0709 with it, 0.0717 without)
-    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read by the follower alone
-    now = _unrelated_shares(gestures, grouped=False)
-    plain = _unrelated_shares(gestures, grouped=False, threshold=float("inf"))
+    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # (read where the group is built)
+    now = _unrelated_shares(gestures)
+    plain = _unrelated_shares(gestures, threshold=float("inf"))
     six = [k for k in now if k.startswith("six:")]
     assert np.mean([now[k] for k in six]) <= np.mean([plain[k] for k in six]) - 0.015, (now, plain)
     assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)

@@ -174,14 +174,14 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
     assert now <= reset - 30, (now, reset)
 
 
-def _circle_on_spirals(gestures, grouped: bool = True) -> int:
+def _circle_on_spirals(gestures) -> int:
     """Ticks the circle drives a spiral (two loops the circle's way round, the second through
-    its start) at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds; ``grouped``: stepped by
-    a group of one (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
+    its start) at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds, stepped by a group of
+    one (:func:`~tests.mop.helpers.solo`)."""
     total = 0
     for seed in range(8):
         rng = np.random.default_rng(seed)
-        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
+        f = solo(puck_follower(gestures))
         path = unrelated_motions(rng, gestures)["spiral"]
         for sc in (0.7, 1.0, 1.4):
             states = run(f, performance(rng, path, sc)[0])
@@ -196,8 +196,8 @@ def test_an_action_whose_shape_since_the_gesture_began_is_off_is_not_taken(gestu
     # 46 with no limit (the last samples' fit, take_rule.TAKE_MISFIT2, lifted: with it 13, 19)
     monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     now = _circle_on_spirals(gestures)
-    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read by the follower alone
-    unlimited = _circle_on_spirals(gestures, grouped=False)
+    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # (read where the group is built)
+    unlimited = _circle_on_spirals(gestures)
     assert now <= 30 and now <= unlimited - 15, (now, unlimited)
 
 

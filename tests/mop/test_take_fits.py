@@ -43,13 +43,20 @@ def test_take_fits_answers_as_the_least_misfit_over_every_size():
     assert 0.2 < np.mean(answers) < 0.8 and near_limit > 10, (np.mean(answers), near_limit)
 
 
+_TAKE_RESIZE = take_rule.TAKE_RESIZE   # its own value, as the group's kernels compile it
+
+
 def _square_shares(gestures, resize: float, monkeypatch) -> list[float]:
     """Valid after 30% of squares drawn 0.7x and 0.75x (six seeds each), with
-    :data:`~behaviors.mop.take_rule.TAKE_RESIZE` at ``resize``."""
-    from bench.follow_quality import puck_follower, run, true_metrics
+    :data:`~behaviors.mop.take_rule.TAKE_RESIZE` at ``resize``: at its own value stepped by a
+    group of one (:func:`~tests.mop.helpers.solo`), else by the follower alone (the group's
+    kernels compile it in)."""
+    from bench.follow_quality import puck_follower, true_metrics
     from bench.motions import performance
+    from tests.mop.helpers import run, solo
+    grouped = resize == _TAKE_RESIZE
     monkeypatch.setattr(take_rule, "TAKE_RESIZE", resize)
-    f = puck_follower(gestures)
+    f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
     return [true_metrics(run(f, x), "square", prog)["valid_after30"]
             for scale in (0.7, 0.75) for x, prog in
             (performance(np.random.default_rng(seed), gestures["square"], scale)

@@ -3,6 +3,7 @@ motions of ``bench/follow_quality.py``: a new action is not taken at a crawl, an
 followed at a crawl stops driving, the gestures themselves as valid as without."""
 
 import numpy as np
+import pytest
 
 from bench.follow_quality import puck_follower, true_metrics
 from bench.motions import performance, unrelated_motions
@@ -111,26 +112,43 @@ def _recognised(states: list, name: str, prog: np.ndarray, begin: int) -> float:
     return float(hit[0]) if hit else 1.0
 
 
-def test_a_gesture_begun_where_another_ended_is_taken_at_its_own_tempo(monkeypatch):
-    # the tempo of a gesture begun where another ended is read from where its attempt began
-    # (tempo.before_attempt), not against the followed state and the input's way of the
-    # gesture that ended (its template was put back at its first state there); a group of the
-    # follower does the same (member_validity.tempo, slow_of). Measured: recognised sooner on
-    # 11 of 16, later on none, mean 0.136 -> 0.118 (the rule off: before_attempt never true)
+@pytest.fixture(scope="module")
+def twenty() -> dict:
+    """The held-out twenty templates, a puck follower of them, and per case of
+    :func:`_after_performances` its states stepped by the follower alone and its (best, valid)
+    by a group of one, the rules on: their (best, valid) at every tick and the progress at which
+    the gesture is first driven alone (:func:`_recognised`). One run each, read by both tests
+    of a gesture begun where another ended."""
     from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
-    from behaviors.mop import tempo
     from behaviors.mop.group import FollowerGroup
 
     templates = {**gesture_templates(), **mocap_templates(joints=MOCAP_HELD_OUT)}
     f = puck_follower(templates)
     group = FollowerGroup([puck_follower(templates)])
-    now = []
+    out = dict(templates=templates, follower=f, group=group, after=[])
     for x, name, prog, begin in _after_performances(templates):
         alone = run(f, x)
         group.reset()
         together = [group.step([s])[0] for s in x]
-        assert [(a.best, a.valid) for a in alone] == [(b.best, b.valid) for b in together]
-        now.append(_recognised(alone, name, prog, begin))
+        out["after"].append(([(a.best, a.valid) for a in alone],
+                             [(b.best, b.valid) for b in together],
+                             _recognised(alone, name, prog, begin)))
+    return out
+
+
+def test_a_gesture_begun_where_another_ended_is_taken_at_its_own_tempo(twenty, monkeypatch):
+    # the tempo of a gesture begun where another ended is read from where its attempt began
+    # (tempo.before_attempt), not against the followed state and the input's way of the
+    # gesture that ended (its template was put back at its first state there); a group of the
+    # follower does the same (member_validity.tempo, slow_of). Measured: recognised sooner on
+    # 11 of 16, later on none, mean 0.136 -> 0.118 (the rule off: before_attempt never true)
+    from behaviors.mop import tempo
+
+    templates, f = twenty["templates"], twenty["follower"]
+    now = []
+    for alone, together, recognised in twenty["after"]:
+        assert alone == together
+        now.append(recognised)
     monkeypatch.setattr(tempo, "before_attempt", lambda samples: False)
     before = np.array([_recognised(run(f, x), name, prog, begin)
                        for x, name, prog, begin in _after_performances(templates)])
@@ -155,30 +173,30 @@ def _from_rest_performances(templates) -> list[tuple[np.ndarray, str, np.ndarray
     return out
 
 
-def test_a_new_gesture_is_asked_its_tempo_over_its_own_samples(monkeypatch):
+def test_a_new_gesture_is_asked_its_tempo_over_its_own_samples(twenty, monkeypatch):
     # in a gesture's first TEMPO_SAMPLES samples the tempo is read from where its attempt began
     # and asked over the attempt's own samples (tempo.span), not over the whole window: a short
     # template (walk wrist, 38 states; dance ankle, 49) is no longer held its first samples
     # for an advance of 3 states; a group of the follower does the same (member_validity.tempo,
     # slow_of). Measured: from rest and after a gesture (32 performances), sooner on 7, later
     # on none, mean 0.128 -> 0.123 (the demand over the whole window: tempo.span constant)
-    from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
     from behaviors.mop import tempo
-    from behaviors.mop.group import FollowerGroup
 
-    templates = {**gesture_templates(), **mocap_templates(joints=MOCAP_HELD_OUT)}
-    f = puck_follower(templates)
-    group = FollowerGroup([puck_follower(templates)])
-    cases = _from_rest_performances(templates) + _after_performances(templates)
+    templates, f, group = twenty["templates"], twenty["follower"], twenty["group"]
+    rest, after = _from_rest_performances(templates), _after_performances(templates)
     now = []
-    for x, name, prog, begin in cases:
+    for x, name, prog, begin in rest:
         alone = run(f, x)
         group.reset()
         together = [group.step([s])[0] for s in x]
         assert [(a.best, a.valid) for a in alone] == [(b.best, b.valid) for b in together]
         now.append(_recognised(alone, name, prog, begin))
+    for alone, together, recognised in twenty["after"]:
+        assert alone == together
+        now.append(recognised)
     monkeypatch.setattr(tempo, "span", lambda samples: float(tempo.TEMPO_SAMPLES))
-    before = np.array([_recognised(run(f, x), name, prog, begin) for x, name, prog, begin in cases])
+    before = np.array([_recognised(run(f, x), name, prog, begin)
+                       for x, name, prog, begin in rest + after])
     now = np.array(now)
     assert np.all(now <= before + 1e-9), (now, before)
     assert np.sum(now < before - 1e-9) >= 5 and now.mean() <= before.mean() - 0.004, (now, before)
