@@ -20,9 +20,9 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import (blocked, gesture_end, handover, member_buffer, member_spotting,
-                           member_validity, overrun, path_kernel, shape_lead, spotting, take_fit,
-                           tempo, validity)
+from behaviors.mop import (blocked, gesture_end, halts, handover, member_buffer,
+                           member_spotting, member_validity, overrun, path_kernel, shape_lead,
+                           speed_profile, spotting, take_fit, take_rule, tempo, validity)
 from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
 from behaviors.mop.gesture_end import END_GRACE, RETURN_BACK, RETURN_RADIUS
 from behaviors.mop.handover import TEMPO_END_FROM
@@ -37,10 +37,11 @@ from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP
                                     REST_BEHIND, TAKEN_PERFORMED)
 from behaviors.kernel_cache import compiled
 
-# the files whose constants or compiled functions the kernels take in (overrun's, path_kernel's
-# and take_fit's through member_validity's)
-_CALLS_INTO = (blocked, gesture_end, handover, member_buffer, member_spotting, member_validity,
-               overrun, path_kernel, shape_lead, spotting, take_fit, tempo, validity)
+# the files whose constants or compiled functions the kernels take in (halts', overrun's,
+# path_kernel's, speed_profile's, take_fit's and take_rule's through member_validity's)
+_CALLS_INTO = (blocked, gesture_end, halts, handover, member_buffer, member_spotting,
+               member_validity, overrun, path_kernel, shape_lead, speed_profile, spotting,
+               take_fit, take_rule, tempo, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]

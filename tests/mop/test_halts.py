@@ -26,22 +26,53 @@ def _longest(flags: list[bool]) -> int:
 
 def test_an_action_just_taken_is_not_shown_while_the_input_halts_where_it_goes_on():
     # the punch is taken at 0.23 of itself as the getup's stroke ends, and its template goes
-    # on at speed while the input stands there. Measured: it drives 3 ticks in a row (7
-    # without halts.halts); the getup is recognised at the same tick either way
+    # on at speed while the input stands there. Measured: it drives 2 ticks in a row (3 without
+    # halts.HALT_ON, 7 without halts.halts); the getup is recognised at the same tick
     templates, x, truth = _punch_on_getup_stream()
     states = run(puck_follower(templates), x)
     wrong = [s.valid and s.best != g for s, g in zip(states, truth)]
     hit = [i for i, (s, g) in enumerate(zip(states, truth)) if s.valid and s.best == g]
-    assert _longest(wrong) <= 3 and hit and hit[0] <= 40, (np.flatnonzero(wrong), hit[:1])
+    assert _longest(wrong) <= 2 and hit and hit[0] <= 40, (np.flatnonzero(wrong), hit[:1])
 
 
 def test_a_group_hides_an_action_while_its_input_halts_as_its_followers_alone():
-    # member_validity.overruns calls halts.halts as the follower does: every state equal (25
-    # valid ticks; 28 without the rule)
+    # member_validity.overruns calls halts.halts as the follower does: every state equal (24
+    # valid ticks; 25 without halts.HALT_ON, 28 without the rule)
     from tests.mop.helpers import group_beside_alone
     templates, x, _ = _punch_on_getup_stream()
     assert group_beside_alone(lambda: puck_follower(templates), [x]) == [VALID]
 
 
 #: The valid ticks of the stream above in a group (measured).
-VALID = 25
+VALID = 24
+
+
+def _halts_on(slow_from: int, recent_speed: float) -> bool:
+    """halts.halts on a straight 2-D template of 50 states stepping 1 a state, 0.1 from state
+    ``slow_from`` on, followed at state 12 (0.245 of it); the input moved 1 a sample over the 4
+    samples before the last 2, ``recent_speed`` a sample over those 2 (spread, units, size 1)."""
+    from behaviors.mop import halts
+    steps = np.where(np.arange(49) < slow_from, 1.0, 0.1)
+    means = np.zeros((50, 2))
+    means[1:, 0] = np.cumsum(steps)
+    one = np.ones(2)
+    x_earlier = np.array([means[12, 0] - 6.0, 0.0])
+    x_recent = x_earlier + np.array([4.0, 0.0])
+    x = x_recent + np.array([2.0 * recent_speed, 0.0])
+    return bool(halts.halts(means, 0, 50, 0, one, one, x, x_recent, x_earlier, 12.0, 12 / 49,
+                            1.0, 1.0))
+
+
+def test_the_input_halts_under_a_wider_share_where_the_template_goes_on_ahead_too():
+    # the input's speed 0.6 of its speed before (over HALT 0.5, under HALT_ON 0.65): a punch
+    # ankle taken on a getup wrist halts at 0.56-0.61 of its speed as the getup's stroke ends
+    # (held-out 103, 108), its template going on for 0.1 of its progress and more; where the
+    # template slows within 0.1 ahead (4 states here) a performer the follower lags may be
+    # there already: a walk wrist followed at 0.253, its performer at 0.387 in its template's
+    # slowing turn (held-out 108, sized), is not hidden; under HALT it is, as before
+    assert _halts_on(slow_from=40, recent_speed=0.6)
+    assert not _halts_on(slow_from=40, recent_speed=0.7)
+    assert not _halts_on(slow_from=16, recent_speed=0.6)
+    assert _halts_on(slow_from=19, recent_speed=0.6)
+    assert _halts_on(slow_from=16, recent_speed=0.4)
+    assert not _halts_on(slow_from=13, recent_speed=0.4)

@@ -5,11 +5,13 @@ took in from another file; the drawing's shape kernels share one stamp of all th
 from __future__ import annotations
 
 import ast
+import dis
 import functools
 import importlib
 import os
 import shutil
 from pathlib import Path
+from types import ModuleType
 
 import numba
 
@@ -80,20 +82,26 @@ def _imported(mod) -> dict[str, str]:
 
 
 def _takes_in(disp, seen: set) -> set[str]:
-    """The files whose compiled functions or constants ``disp`` builds into itself."""
+    """The files whose compiled functions or constants ``disp`` builds into itself, through the
+    kernels it calls by name or as an attribute of a module (``halts.halts``) alike."""
     mod = importlib.import_module(disp.__module__)
     imported, files = _imported(mod), {os.path.abspath(mod.__file__)}
     codes = [disp.py_func.__code__]
     while codes:
         code = codes.pop()
         codes += [c for c in code.co_consts if hasattr(c, "co_names")]
-        for name in code.co_names:
-            obj = vars(mod).get(name)
+        called = [vars(mod).get(name) for name in code.co_names]
+        held = None     # the module the instruction before loaded, if any
+        for ins in dis.get_instructions(code):
+            if held is not None and ins.opname in ("LOAD_ATTR", "LOAD_METHOD"):
+                called.append(getattr(held, ins.argval, None))
+            held = vars(mod).get(ins.argval) if ins.opname == "LOAD_GLOBAL" else None
+            held = held if isinstance(held, ModuleType) else None
+        for obj in called:
             if isinstance(obj, numba.core.registry.CPUDispatcher) and obj not in seen:
                 seen.add(obj)
                 files |= _takes_in(obj, seen)
-            elif name in imported:
-                files.add(os.path.abspath(imported[name]))
+        files |= {os.path.abspath(imported[name]) for name in code.co_names if name in imported}
     return files
 
 
