@@ -1,7 +1,8 @@
-"""A soak: twelve and a half minutes of table time on a simulated clock (synthetic camera, every engine,
-studio and kiosk on, a studio take every 200 s): memory and the live Python objects stay flat
-and nothing fails. The long forms are bench/soak.py's (`python -m bench --soaks`): the hour
-with the scripts' whole history (tracking.visitor.HISTORY_S), the rate staying steady."""
+"""A soak: twelve and a half minutes of table time on a simulated clock (synthetic camera,
+every engine, studio and kiosk on, a studio take every 200 s): memory and the live Python
+objects stay flat and nothing fails. The long forms are bench/soak.py's (`python -m bench
+--soaks`): the hour with the scripts' whole history (tracking.visitor.HISTORY_S), the rate
+staying steady."""
 
 from pathlib import Path
 
