@@ -1,7 +1,10 @@
 """A kiosk's installation run in a thread while a test watches it: its loop, a sink that keeps
 what the last frame drew, and the replay of its recording compared with it."""
 
+import contextlib
+import io
 import json
+import subprocess
 import threading
 from contextlib import contextmanager
 from pathlib import Path
@@ -9,7 +12,7 @@ from typing import Any, Iterator
 
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
-from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.tabletop.test_replay_exact import frames
 
 
 class Latest:
@@ -66,6 +69,20 @@ def running(inst: Any, seconds: float, run_out: bool = False) -> Iterator[None]:
             th.join(30)
         inst.loop.stop.set()
         th.join(30)
+
+
+def replay_cli(session: Path, out: Path) -> subprocess.CompletedProcess:
+    """``tabletop replay SESSION --fast --no-view --out OUT`` from ``session``'s folder, as
+    tests.tabletop.test_replay_exact.replay_cli runs it, here in the test's process: its exit
+    status and stderr (the log lines go to pytest's log capture). A replay process spent
+    1.2-1.4 of its 0.8-2.0 CPU s on its interpreter's start, imports and kernel loads
+    (tests/kiosk: 16 replays); the replay in a fresh process is test_replay_exact's."""
+    from tabletop.cli import main
+    args = ["replay", str(session), "--fast", "--no-view", "--out", str(out)]
+    err = io.StringIO()
+    with contextlib.chdir(session.parent), contextlib.redirect_stderr(err):
+        code = main(args)
+    return subprocess.CompletedProcess(["tabletop", *args], code, "", err.getvalue())
 
 
 def replays_alike(session: Path, out: Path, least: int = 30,

@@ -17,10 +17,10 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.running import (Latest, kiosk_built, replays_alike, replays_without, running,
-                                 started_without, ticked_with_edits)
+from tests.kiosk.running import (Latest, kiosk_built, replay_cli, replays_alike, replays_without,
+                                 running, started_without, ticked_with_edits)
 from tests.kiosk.test_kiosk_lock import status
-from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.tabletop.test_replay_exact import frames
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
 from tracking.scenes import wait_for
 

@@ -19,7 +19,7 @@ from tracking.scenes import wait_for
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def kiosk_config(tmp_path: Path, faults: list[dict]) -> Path:
+def kiosk_config(tmp_path: Path, faults: list[dict], spares: int = 1) -> Path:
     cfg = {
         "loop": {"rate_hz": 30},
         "sources": [{"kind": "synthetic_camera", "name": "camera", "pucks": [1, 2],
@@ -27,7 +27,7 @@ def kiosk_config(tmp_path: Path, faults: list[dict]) -> Path:
         "engines": [{"kind": "fault", "name": "drill", "faults": faults}],
         "view": {"size": [320, 180], "headless": True},
         "recorder": {"enabled": True, "folder": "sessions"},
-        "kiosk": {"spares": 1, "stall_s": 5.0, "backoff_s": [0.1, 2.0],
+        "kiosk": {"spares": spares, "stall_s": 5.0, "backoff_s": [0.1, 2.0],
                   "heartbeat": {"enabled": False, "every_s": 0.2}},   # status.json 5 a second
     }
     path = tmp_path / "config.yaml"
@@ -95,7 +95,8 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
             os.killpg(first.pid, signal.SIGKILL)
             first.wait(10)
     assert (tmp_path / ".kiosk.tabletop-lock").exists()
-    cfg = kiosk_config(tmp_path, [])
+    # (no warm spare: it would be killed unused a second later, 0.9-1.0 CPU s)
+    cfg = kiosk_config(tmp_path, [], spares=0)
     third = run(cfg, "--seconds", "1")
     _, err = third.communicate(timeout=120)
     assert third.returncode == 0, err[-2000:]
