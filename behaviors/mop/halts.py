@@ -44,10 +44,10 @@ performer was at 0.387 (sized 108, valid after 30% at 0.7-1.4x .90252 -> .90229)
 slowed in its template's turn, which the followed state, far behind, had not reached (the
 template's steps 2-5 states ahead 0.64-0.40 of its speed before). Reading the slowest step over
 0.1 ahead for :data:`HALT` too (0.65 everywhere) spared the walk, but also spared an unrelated
-wander shown as a wave where main's rule hid it (the wave's template slowing 2 states ahead, 0.42;
-the input along its way 0.04 of its speed before): unrelated told 109 .0640 -> .0663. So the
-rule within one state is kept as it was, and the wider share only added where the template goes
-on ahead: it hides every tick it hid, and more. ``bench/follow_seeds.py
+wander shown as a wave where the rule within one state hid it (the wave's template slowing 2
+states ahead, 0.42; the input along its way 0.04 of its speed before): unrelated told 109 .0640
+-> .0663. So the rule within one state is kept as it was, and the wider share only added where
+the template goes on ahead: it hides every tick it hid, and more. ``bench/follow_seeds.py
 --sections=sized,unrelated,sequences``: twenty templates' longest wrong run 4/2/3/2/2/3 ->
 4/2/2/2/2/3 (101-106; 108's punch is hidden a tick sooner under its spin's run of 3, 112's lies
 under :data:`GOES_ON`: its template slows to 0.688 there), unrelated told 104 .0818 -> .0795, 107

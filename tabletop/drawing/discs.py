@@ -35,6 +35,14 @@ def row_span(cx: float, dy: float, inner2: float, outer2: float, W: int) -> tupl
 
 
 @kernel(inline="always")
+def mapped(H: np.ndarray, x: float, y: float) -> tuple[float, float]:
+    """Table point (``x``, ``y``) metres in pixels by the homography ``H`` (3 x 3), as
+    :meth:`tabletop.table_map.TableToScreen.points` maps it, to the bit."""
+    w = H[2, 0] * x + H[2, 1] * y + H[2, 2]
+    return (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w, (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w
+
+
+@kernel(inline="always")
 def disc_rows(pix: np.ndarray, cy: float, r: float) -> tuple[int, int, int, float, float, float]:
     """The rows a disc of radius ``r`` px around height ``cy`` touches on ``pix``: (W, y0, y1,
     e, inner2, outer2): the surface's width, the first and last row, the outer radius ``e`` and
@@ -139,14 +147,9 @@ def uncover_drawn(pix: np.ndarray, fmt: np.ndarray, bare: np.ndarray, bare_fmt: 
     same = _same(fmt, bare_fmt)
     for i in range(at.shape[0]):
         x, y = at[i, 0], at[i, 1]
-        w0 = H[2, 0] * x + H[2, 1] * y + H[2, 2]
-        cx = (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w0
-        cy = (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w0
-        bx = x + 0.01
-        w1 = H[2, 0] * bx + H[2, 1] * y + H[2, 2]
-        ex = (H[0, 0] * bx + H[0, 1] * y + H[0, 2]) / w1 - cx
-        ey = (H[1, 0] * bx + H[1, 1] * y + H[1, 2]) / w1 - cy
-        r = radius_m * math.hypot(ex, ey) / 0.01
+        cx, cy = mapped(H, x, y)
+        ex, ey = mapped(H, x + 0.01, y)
+        r = radius_m * math.hypot(ex - cx, ey - cy) / 0.01
         if not (r > 0.0 and -30000.0 < cx < 30000.0 and -30000.0 < cy < 30000.0):
             continue
         x0, y0, n = int(cx - r) - 1, int(cy - r) - 1, int(2 * r) + 3

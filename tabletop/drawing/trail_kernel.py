@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from tabletop.drawing.discs import mapped
 from tabletop.drawing.kernel_cache import kernel
 from tabletop.drawing.limbs import capsule
 
@@ -31,9 +32,7 @@ def trails(pix: np.ndarray, fmt: np.ndarray, path: np.ndarray, starts: np.ndarra
         lx, ly, hx, hy = 1e9, 1e9, -1e9, -1e9
         for j in range(starts[i], starts[i + 1]):
             x, y, t = path[j, 0], path[j, 1], path[j, 2]
-            w = H[2, 0] * x + H[2, 1] * y + H[2, 2]
-            qx = (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w
-            qy = (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w
+            qx, qy = mapped(H, x, y)
             dx, dy = qx - cx, qy - cy
             if dx * dx + dy * dy <= hole2:
                 continue
