@@ -319,9 +319,9 @@ class Renderer:
                 # early feedback: the suspected action's pose, a faint light of the
                 # character's own (lively) colour, casting no glow, outlined and named
                 ghost = hinted_pose(pose, c.color, pr.hint)
-                hinted = self._light.add(target, lambda s: self._draw_points(
-                    s, c, ghost, pr.hint_points), hint_rim(target.get_size()), c.name,
-                    pr.hint_points)
+                hinted = self._light.add(target, lambda s, spans: self._draw_points(
+                    s, c, ghost, pr.hint_points, spans=spans), hint_rim(target.get_size()),
+                    c.name, pr.hint_points, marks=True)
                 if hinted is not None and pr.hint_action:
                     label = hint_label(target.get_size(), pr.hint_action, hinted, c.color,
                                        pr.hint, self.map.reading(), self._table_rect())
@@ -337,16 +337,19 @@ class Renderer:
         return characters.draw_reactor(target, c, pose)
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
-                     xy: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
-                     ) -> pygame.Rect | None:
+                     xy: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None,
+                     spans: np.ndarray | None = None) -> pygame.Rect | None:
         """A character given by points (``xy``: N x 2 table metres), drawn as its kind; a face
-        (or a hybrid's) shows ``hint``'s features faintly on it (:func:`draw_face`)."""
+        (or a hybrid's) shows ``hint``'s features faintly on it (:func:`draw_face`); each row's
+        pixels drawn marked in ``spans`` (a hinted pose's: :class:`AddedLight`)."""
         xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
         if c.kind == "face":
-            return characters.draw_face(target, c, pose, xy, self.map.H, as_points(hint))
+            return characters.draw_face(target, c, pose, xy, self.map.H, as_points(hint),
+                                        spans)
         if c.kind == "hybrid":
-            return characters.draw_hybrid(target, c, pose, xy, self.map.H, as_points(hint))
-        return characters.draw_figure(target, c, pose, xy, self.map.H)
+            return characters.draw_hybrid(target, c, pose, xy, self.map.H, as_points(hint),
+                                          spans)
+        return characters.draw_figure(target, c, pose, xy, self.map.H, spans=spans)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         """A puck's id (:func:`pucks.id_label`) 22 px tall, and larger in a larger window, as

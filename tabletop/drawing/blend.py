@@ -56,3 +56,14 @@ def fill(pix: np.ndarray, y: int, x0: int, x1: int, ink: tuple) -> None:
     row = pix[x0:x1 + 1, y]
     for x in range(row.shape[0]):
         row[x] = (row[x] & k) | col
+
+
+@kernel(inline="always")
+def mark(spans: np.ndarray | None, y: int, x0: int, x1: int) -> None:
+    """Pixels x0..x1 of row ``y`` drawn: row ``y``'s span in ``spans`` (rows x (first, last)
+    px; empty: first > last) widened to hold them (x0 > x1: none). None: no spans kept (the
+    branch is compiled away: a drawing without spans pays nothing)."""
+    if spans is not None:
+        if x0 <= x1:
+            spans[y, 0] = min(spans[y, 0], x0)
+            spans[y, 1] = max(spans[y, 1], x1)

@@ -36,29 +36,31 @@ EYE_YAW, EYE_R, EYE_SEEN = 0.6, 0.885, 0.05
 
 @kernel
 def _eye(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, blink: float,
-         gx: float, gy: float, angle: float, white: int, ink: int) -> None:
+         gx: float, gy: float, angle: float, white: int, ink: int,
+         spans: np.ndarray | None = None) -> None:
     if blink > 0.97:
-        disc(pix, fmt, cx, cy, r + 0.5, white)
+        disc(pix, fmt, cx, cy, r + 0.5, white, spans)
     else:
         ellipse(pix, fmt, cx, cy, r + 0.5, max(0.6, r * blink) + 0.5, angle + math.pi / 2, 14,
-                white)
+                white, spans)
     if blink > 0.45:
         px, py = cx + gx * r * 0.42, cy + gy * r * 0.42
-        disc(pix, fmt, px, py, r * 0.52 + 0.5, ink)
-        disc(pix, fmt, px - 0.125 * r, py - 0.175 * r, max(1.0, r * 0.16) + 0.5, white)
+        disc(pix, fmt, px, py, r * 0.52 + 0.5, ink, spans)
+        disc(pix, fmt, px - 0.125 * r, py - 0.175 * r, max(1.0, r * 0.16) + 0.5, white, spans)
 
 
 @kernel
 def eyes(pix: np.ndarray, fmt: np.ndarray, x1: float, y1: float, x2: float, y2: float,
-         r: float, blink: float, gaze: float, angle: float, white: int, ink: int) -> None:
+         r: float, blink: float, gaze: float, angle: float, white: int, ink: int,
+         spans: np.ndarray | None = None) -> None:
     """Two eyes of radius ``r`` px at (x1, y1) and (x2, y2): white, a dark pupil turned along
     ``gaze`` (screen radians) with a glint, lids closing with ``blink`` (opening 0..1) across
-    ``angle``."""
+    ``angle`` (``spans``: :func:`figure`)."""
     if r < 1.5:
         return
     gx, gy = math.cos(gaze), math.sin(gaze)
-    _eye(pix, fmt, x1, y1, r, blink, gx, gy, angle, white, ink)
-    _eye(pix, fmt, x2, y2, r, blink, gx, gy, angle, white, ink)
+    _eye(pix, fmt, x1, y1, r, blink, gx, gy, angle, white, ink, spans)
+    _eye(pix, fmt, x2, y2, r, blink, gx, gy, angle, white, ink, spans)
 
 
 @kernel
@@ -102,14 +104,16 @@ def reactor(pix: np.ndarray, fmt: np.ndarray, uv: np.ndarray, eyes_uv: np.ndarra
 def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp: np.ndarray,
            kind: int, w0: float, wspine: float, fig: float, head: bool, dark: int, body: int,
            light: int, angle: float, gaze: float, blink: float, white: int, ink: int,
-           vx: float, vy: float, vz: float) -> None:
+           vx: float, vy: float, vz: float, spans: np.ndarray | None = None) -> None:
     """An articulated figure (points ``q`` px, topology ``tp`` from :func:`pack_topology`):
     limbs and their joints in the ``dark`` shade, a torso for a creature or bird, the spine and
     its joints over them, lighter knots where limbs bend, and a head with eyes at the spine's
     end (unless ``head`` is False). Half-widths are ``w0`` px times each point's relative
     thickness ``rel``, at least ``wspine`` times it on the spine but its end. ``fig``: its size
     in px; (``vx``, ``vy``, ``vz``): where its head faces as a camera sees it (px on screen per
-    unit, then toward the viewer; NaN: seen from above)."""
+    unit, then toward the viewer; NaN: seen from above). ``spans`` (rows x (first, last) px,
+    or None): each row's pixels drawn marked in it (:func:`tabletop.drawing.blend.mark`: a
+    hinted pose's outline walks only them, :mod:`tabletop.drawing.outline_kernel`)."""
     nb, nl, nlp, nsp, nk, ns = tp[0], tp[1], tp[2], tp[3], tp[4], tp[5]
     o = 6
     ol = o + 2 * nb
@@ -131,7 +135,7 @@ def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp:
         a, b = tp[o + 2 * k], tp[o + 2 * k + 1]
         wl = 0.5 * max(1, int(w[a] + w[b]))
         cone(pix, fmt, q[a, 0], q[a, 1], wl if spined[a] else w[a] + 0.5, q[b, 0], q[b, 1],
-             wl if spined[b] else w[b] + 0.5, dark)
+             wl if spined[b] else w[b] + 0.5, dark, spans)
     if (kind == CREATURE or kind == SPRITE) and ns >= 3:     # the torso along the spine
         s0, s1 = tp[os_], tp[os_ + ns - 2]
         ax, ay, bx, by = q[s0, 0], q[s0, 1], q[s1, 0], q[s1, 1]
@@ -141,27 +145,27 @@ def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp:
             rx = 0.5 * length + wspine
             ry = max(wspine * 1.6, 0.3 * rx if kind == SPRITE else wspine * 1.3)
             ellipse(pix, fmt, (ax + bx) / 2, (ay + by) / 2, rx, ry, math.atan2(dy, dx), 20,
-                    body)
+                    body, spans)
     for k in range(nl, nb):                                  # the spine over them, tapered
         a, b = tp[o + 2 * k], tp[o + 2 * k + 1]
         bx, by, rb = q[b, 0], q[b, 1], w[b] + 0.5
         if head and kind == SKELETON and b == tp[os_ + ns - 1]:
             bx, by = (q[a, 0] + bx) / 2, (q[a, 1] + by) / 2  # ends in the head: no round tip
             rb = 0.5 * max(1, int(w[a] + w[b]))
-        cone(pix, fmt, q[a, 0], q[a, 1], w[a] + 0.5, bx, by, rb, body)
+        cone(pix, fmt, q[a, 0], q[a, 1], w[a] + 0.5, bx, by, rb, body, spans)
     for j in range(nk):                                      # a lighter knot where a limb bends
         i = tp[ok + j]
         if w[i] > 3:
-            disc(pix, fmt, q[i, 0], q[i, 1], w[i] * 0.45 + 0.5, light)
+            disc(pix, fmt, q[i, 0], q[i, 1], w[i] * 0.45 + 0.5, light, spans)
     if head and ns >= 2:
         _head(pix, fmt, q, tp[os_ + ns - 1], tp[os_ + ns - 2], kind, fig, body, angle, gaze,
-              blink, white, ink, vx, vy, vz)
+              blink, white, ink, vx, vy, vz, spans)
 
 
 @kernel
 def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind: int,
           fig: float, body: int, angle: float, gaze: float, blink: float, white: int,
-          ink: int, vx: float, vy: float, vz: float) -> None:
+          ink: int, vx: float, vy: float, vz: float, spans: np.ndarray | None = None) -> None:
     """A head at the spine's end ``h`` (``p`` before it), facing along that last bone, eyes
     looking along the gaze; seen by a camera (``vz`` not NaN, :func:`figure`), its eyes where
     they face the viewer (:func:`_seen_eyes`)."""
@@ -175,11 +179,11 @@ def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind:
     else:   # a bird seen from above has a round head, its eyes much of it
         ox, oy = hx - dx * 0.35, hy - dy * 0.35
         r = (BIRD_HEAD if kind == SPRITE else 0.06) * fig
-    disc(pix, fmt, ox, oy, max(2.5, r) + 0.5, body)
+    disc(pix, fmt, ox, oy, max(2.5, r) + 0.5, body, spans)
     er = max(1.6, (BIRD_EYE if kind == SPRITE else 0.32) * r)
     if not math.isnan(vz):
         _seen_eyes(pix, fmt, ox, oy, r, math.cos(facing), math.sin(facing), vx, vy, vz, er,
-                   blink, angle, white, ink)
+                   blink, angle, white, ink, spans)
         return
     sx, sy = -math.sin(facing), math.cos(facing)
     if kind == SKELETON:   # seen from the side or above: the eyes turned toward the gaze
@@ -187,13 +191,13 @@ def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind:
     else:
         ex, ey, k = ox + math.cos(facing) * 0.25 * r, oy + math.sin(facing) * 0.25 * r, 0.5 * r
     eyes(pix, fmt, ex + sx * k, ey + sy * k, ex - sx * k, ey - sy * k, er, blink, gaze, angle,
-         white, ink)
+         white, ink, spans)
 
 
 @kernel
 def _seen_eyes(pix: np.ndarray, fmt: np.ndarray, ox: float, oy: float, r: float, ux: float,
                uy: float, vx: float, vy: float, vz: float, er: float, blink: float,
-               angle: float, white: int, ink: int) -> None:
+               angle: float, white: int, ink: int, spans: np.ndarray | None = None) -> None:
     """The eyes of a round head (centre ``ox``, ``oy``, radius ``r`` px, up along ``ux``,
     ``uy``) facing (``vx``, ``vy``) on screen and ``vz`` toward the viewer: each where it lies
     on the head as seen, drawn only while it faces the viewer (:data:`EYE_SEEN`), looking
@@ -213,7 +217,8 @@ def _seen_eyes(pix: np.ndarray, fmt: np.ndarray, ox: float, oy: float, r: float,
             d = k * math.hypot(nx, ny)
             if d > r - er > 0:
                 k *= (r - er) / d
-            _eye(pix, fmt, cx + k * nx, cy + k * ny, er, blink, vx, vy, angle, white, ink)
+            _eye(pix, fmt, cx + k * nx, cy + k * ny, er, blink, vx, vy, angle, white, ink,
+                 spans)
 
 
 @kernel
@@ -251,12 +256,13 @@ def _pupil(xs: np.ndarray, ys: np.ndarray, n: int, mx: float, my: float, gx: flo
 @kernel
 def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke: float,
          shadow: int, body: int, white: int, ink: int, blink: float, gaze: float,
-         angle: float, parts: int) -> None:
+         angle: float, parts: int, spans: np.ndarray | None = None) -> None:
     """A face from its loops (``lp`` from :func:`pack_loops`, points ``q`` px): the first closed
     loop is the head (on a ``shadow`` rim), smaller round closed loops are eyes (lids closing
     with ``blink`` across ``angle``, pupils looking along ``gaze``), other closed loops the
     mouth, open strokes (brows, nose) ``stroke`` px thick. ``parts``: :data:`HEAD` (the head
-    alone), :data:`FEATURES` (all but the head) or both (their sum)."""
+    alone), :data:`FEATURES` (all but the head) or both (their sum); ``spans``: as
+    :func:`figure`'s."""
     gx, gy = math.cos(gaze), math.sin(gaze)
     ux, uy = -math.sin(angle), math.cos(angle)     # up the face
     first = True
@@ -270,7 +276,7 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
             for j in range(n - 1):
                 a, b = lp[st + j], lp[st + j + 1]
                 capsule(pix, fmt, q[a, 0], q[a, 1], q[b, 0], q[b, 1],
-                        w + 0.5 if width > 2 else 0.5 * width, ink)
+                        w + 0.5 if width > 2 else 0.5 * width, ink, spans)
             continue
         xs, ys = np.empty(n), np.empty(n)
         for j in range(n):
@@ -278,8 +284,9 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
         mx, my = xs.mean(), ys.mean()
         if first:                                                # the head
             if parts & HEAD:
-                polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow)
-                polygon(pix, fmt, xs, ys, n, body)
+                polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow,
+                        spans)
+                polygon(pix, fmt, xs, ys, n, body, spans)
             first = False
             continue
         if not parts & FEATURES:
@@ -292,11 +299,11 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
                 rx, ry = xs[j] - mx, ys[j] - my
                 along = (rx * ux + ry * uy) * shut
                 lx[j], ly[j] = rx - along * ux + mx, ry - along * uy + my
-            polygon(pix, fmt, lx, ly, n, white)
+            polygon(pix, fmt, lx, ly, n, white, spans)
             if blink > 0.45:
                 r, d = _pupil(lx, ly, n, mx, my, gx, gy, 0.45 * min(w, h) + 1.5,
                               0.3 * max(w, h))
-                disc(pix, fmt, mx + gx * d, my + gy * d, r, ink)
+                disc(pix, fmt, mx + gx * d, my + gy * d, r, ink, spans)
         else:                                                    # the mouth
-            polygon(pix, fmt, xs, ys, n, ink)
+            polygon(pix, fmt, xs, ys, n, ink, spans)
 

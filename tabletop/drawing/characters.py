@@ -215,11 +215,14 @@ def _posed(c: CharacterState, pose: Pose, xy: np.ndarray, H: np.ndarray) -> tupl
 
 
 def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-                H: np.ndarray, head: bool = True) -> pygame.Rect | None:
+                H: np.ndarray, head: bool = True,
+                spans: np.ndarray | None = None) -> pygame.Rect | None:
     """An articulated figure (skeleton, creature, sprite sheet) of points ``xy`` (N x 2 table
     metres, mapped to pixels by ``H``): limbs with thickness and joints, the spine (from the
     first bone, first children on) thickest, a head with eyes at the spine's end (unless
-    ``head`` is False). Returns the rectangle it touched."""
+    ``head`` is False). ``spans``: each row's pixels drawn marked in it (a hinted pose's,
+    :class:`tabletop.drawing.light.AddedLight`; it casts no glow). Returns the rectangle it
+    touched."""
     posed = _posed(c, pose, xy, H)
     if posed is None:
         return None
@@ -239,27 +242,27 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     _, dark, _, _, body, light, _, white, ink = inks(pose.color, pose.alpha, pose.ground)
     if topo is None:
         r = max(2.0, 0.03 * fig)
-        raster.draw(surf, discs, pts, float(r + 0.5), body)
+        raster.draw(surf, discs, pts, float(r + 0.5), body, spans)
         return P.union([touched, P.box(box, r + 2)])
     rel, _, tp = topo
     wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
     raster.draw(surf, K.figure, pts, rel, tp, _KINDS.get(c.kind, K.OTHER), float(w0),
                 float(wspine), float(fig), bool(head), dark, body, light, float(pose.angle),
                 float(pose.gaze), float(pose.blink), white, ink,
-                *pose_kernel.facing_px(H, c.x, c.y, c.facing))
+                *pose_kernel.facing_px(H, c.x, c.y, c.facing), spans)
     return P.union([touched, P.box(box, wspine + 0.08 * fig + 2)])
 
 
 def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-              H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
-              ) -> pygame.Rect | None:
+              H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None,
+              spans: np.ndarray | None = None) -> pygame.Rect | None:
     """A face of points ``xy`` (N x 2 table metres, mapped to pixels by ``H``): its first closed
     loop is the head (filled, on a glow), smaller closed loops are eyes (white with pupils
     looking along the gaze, blinking) or the mouth (dark), open strokes are brows and nose
     drawn thick. ``hint``: a suspected expression (its faint pose, its points) whose features
     show faintly on the head under the face's own (MOP early feedback: drawn on its own, a
-    faint face lay wholly under the opaque face and was never seen). Returns the rectangle
-    it touched."""
+    faint face lay wholly under the opaque face and was never seen). ``spans``: as
+    :func:`draw_figure`'s. Returns the rectangle it touched."""
     posed = _posed(c, pose, xy, H)
     if posed is None:
         return None
@@ -279,27 +282,29 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarra
     ghost = _posed(c, hint[0], hint[1], H) if hint is not None else None
     if ghost is None:
         raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look,
-                    K.HEAD + K.FEATURES)
+                    K.HEAD + K.FEATURES, spans)
         return P.union([P.box(box, 0.06 * fig + 2), glow])
-    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.HEAD)
+    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.HEAD, spans)
     # the suspected features at the hint's opacity over the face's own skin
     gwhite, gink = inks(pose.color, hint[0].alpha, pose.body())[7:]
     raster.draw(surf, K.face, ghost[0], lp, stroke, shadow, body, gwhite, gink, *look,
-                K.FEATURES)
-    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.FEATURES)
+                K.FEATURES, spans)
+    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.FEATURES,
+                spans)
     return P.union([P.box(box, 0.06 * fig + 2), P.box(ghost[1], 0.06 * fig + 2), glow])
 
 
 def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-                H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
-                ) -> pygame.Rect | None:
+                H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None,
+                spans: np.ndarray | None = None) -> pygame.Rect | None:
     """A hybrid character: its body drawn as a creature's (no head of its own) and its face
     drawn as a face where the head would be. ``xy``: every point (table metres, mapped to
     pixels by ``H``); ``hint``: a suspected pose, its face's features shown faintly on the
-    face (:func:`draw_face`). Returns the rectangle it touched."""
+    face (:func:`draw_face`); ``spans``: as :func:`draw_figure`'s. Returns the rectangle it
+    touched."""
     parts = hybrid_parts(len(xy), tuple(c.bones))
     if parts is None or c.points is None:
-        return draw_figure(surf, c, pose, xy, H)
+        return draw_figure(surf, c, pose, xy, H, spans=spans)
     k, body_bones, face_bones = parts
     face_m = np.asarray(c.points)[k:]
     if not np.all(np.isfinite(face_m)):
@@ -319,8 +324,8 @@ def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
         ref = loops[1] if loops is not None else np.zeros(0, dtype=np.int64)
         face_hint = (hint[0], rigid_onto(np.asarray(hint[1], dtype=np.float64)[k:],
                                          np.asarray(xy[k:], dtype=np.float64), ref))
-    return P.union([draw_figure(surf, body, pose, xy[:k], H, head=False),
-                    draw_face(surf, face, pose, xy[k:], H, face_hint)])
+    return P.union([draw_figure(surf, body, pose, xy[:k], H, False, spans),
+                    draw_face(surf, face, pose, xy[k:], H, face_hint, spans)])
 
 
 # A played-back main take (the studio's sequential training) is the main's puck's ghost: a

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from tabletop.drawing.blend import fill, pen, put
+from tabletop.drawing.blend import fill, mark, pen, put
 from tabletop.drawing.kernel_cache import kernel
 
 
@@ -55,8 +55,10 @@ def disc_rows(pix: np.ndarray, cy: float, r: float) -> tuple[int, int, int, floa
 
 
 @kernel
-def disc(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, col: int) -> None:
-    """A filled disc of radius ``r`` px around (cx, cy), its rim anti-aliased."""
+def disc(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, col: int,
+         spans: np.ndarray | None = None) -> None:
+    """A filled disc of radius ``r`` px around (cx, cy), its rim anti-aliased; each row's
+    pixels marked in ``spans`` (:func:`tabletop.drawing.blend.mark`)."""
     if not (r > 0.0 and -30000.0 < cx < 30000.0 and -30000.0 < cy < 30000.0):
         return
     W, y0, y1, e, inner2, outer2 = disc_rows(pix, cy, r)
@@ -64,6 +66,7 @@ def disc(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, col: 
     for y in range(y0, y1 + 1):
         dy = y - cy
         xa, xb, ia, ib = row_span(cx, dy, inner2, outer2, W)
+        mark(spans, y, xa, xb)
         for x in range(xa, min(ia, xb + 1)):
             dx = x - cx
             put(pix, x, y, ink, e - math.sqrt(dx * dx + dy * dy))
@@ -75,10 +78,11 @@ def disc(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, col: 
 
 
 @kernel
-def discs(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, r: float, col: int) -> None:
-    """A disc of radius ``r`` px at each point of ``q`` (N x 2, px)."""
+def discs(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, r: float, col: int,
+          spans: np.ndarray | None = None) -> None:
+    """A disc of radius ``r`` px at each point of ``q`` (N x 2, px) (``spans``: :func:`disc`)."""
     for i in range(q.shape[0]):
-        disc(pix, fmt, q[i, 0], q[i, 1], r, col)
+        disc(pix, fmt, q[i, 0], q[i, 1], r, col, spans)
 
 
 @kernel(inline="always")

@@ -101,6 +101,7 @@ class AddedLight:
 
     def __init__(self) -> None:
         self._scratch: pygame.Surface | None = None
+        self._spans = outline_kernel.empty_spans(0, 0)  # the scratch's rows drawn (first, last)
         self._eroded: pygame.Surface | None = None    # the outline's work (:meth:`_outline`)
         self._kept: dict[str, _Kept] = {}             # by character (:data:`KEEP_OFF`)
         self._spare: list[pygame.Surface] = []        # kept lights let go, to use again
@@ -120,14 +121,17 @@ class AddedLight:
             self._spare.append(kept.light)
         kept.light, kept.rect = None, None
 
-    def add(self, target: pygame.Surface,
-            paint: Callable[[pygame.Surface], pygame.Rect | None],
-            rim: int = 0, key: str | None = None, points: object = None) -> pygame.Rect | None:
+    def add(self, target: pygame.Surface, paint: Callable[..., pygame.Rect | None],
+            rim: int = 0, key: str | None = None, points: object = None,
+            marks: bool = False) -> pygame.Rect | None:
         """What ``paint`` draws on black (a pose faded toward black, ``Pose.ground``), added
         onto ``target``; ``rim`` > 0: only its outline, ``rim`` px wide, whole, and its inside
         at :data:`HINT_FILL` (:meth:`_outline`). Given a ``key`` (the character) and the
         ``points`` it is drawn from, the light is added again in the next frame drawn from the
-        same points (:data:`KEEP_OFF`). Returns the rectangle it touched there."""
+        same points (:data:`KEEP_OFF`). ``marks``: ``paint`` is given the rows' spans too
+        (``paint(scratch, spans)``) and marks in them every pixel it draws, as the drawing's
+        kernels do given them (:func:`tabletop.drawing.blend.mark`): only those are walked;
+        else its whole rectangle is. Returns the rectangle it touched there."""
         kept = None
         if key is not None:
             kept = self._kept.get(key)
@@ -147,11 +151,13 @@ class AddedLight:
                     kept.on = False
                     self._let_go(kept)
             kept.used, kept.rect, kept.again = True, None, False
-        scratch = self._scratch
+        scratch, spans = self._scratch, self._spans
         if scratch is None or scratch.get_size() != target.get_size():
             scratch = self._scratch = pygame.Surface(target.get_size(), 0, target)
             scratch.fill((0, 0, 0))
-        r = paint(scratch)
+            spans = self._spans = outline_kernel.empty_spans(scratch.get_height(),
+                                                             scratch.get_width())
+        r = paint(scratch, spans) if marks else paint(scratch)
         if r is None:
             return None
         r = r.clip(target.get_rect())
@@ -160,6 +166,8 @@ class AddedLight:
         into, out = raster.pixels(target), raster.pixels(scratch)
         if into is not None and out is not None and into[1].tolist() == out[1].tolist():
             keep = int(round(255 * (1.0 - HINT_FILL)))
+            if not marks:                 # (what it drew unknown: every row of the rectangle)
+                spans[r.top:r.bottom] = (r.left, r.right - 1)
             if kept is not None and kept.on:
                 # what is added also kept (the same pixels added again: the add saturates
                 # alike; outlined onto black and blitted, a paint cost 0.15-0.2 ms more)
@@ -171,16 +179,19 @@ class AddedLight:
                 light.fill((0, 0, 0), r)
                 lit = raster.pixels(light)
                 if lit is not None:
-                    outline_kernel.add_outline(out[0], into[0], out[1], r.left, r.top, r.right,
-                                               r.bottom, rim, keep, lit[0], True)
+                    outline_kernel.add_outline(_rows(out[0]), _rows(into[0]), _rows(lit[0]),
+                                               out[1], r.left, r.top, r.right, r.bottom, rim,
+                                               keep, True, spans)
                     kept.rect = r.copy()
                     return r
-            # one compiled pass over the lit pixels, the same pixels as :meth:`_outline`'s
+            # one compiled pass over the drawn spans, the same pixels as :meth:`_outline`'s
             # seven passes and the add: bench/view.py's hinted scene (3 hints, 1280x720)
             # 0.46 ms less draw CPU per frame (paired median, 7.25 -> 6.82 ms)
-            outline_kernel.add_outline(out[0], into[0], out[1], r.left, r.top, r.right,
-                                       r.bottom, rim, keep, into[0], False)
+            view = _rows(into[0])
+            outline_kernel.add_outline(_rows(out[0]), view, view, out[1], r.left, r.top,
+                                       r.right, r.bottom, rim, keep, False, spans)
             return r
+        spans[:, 0], spans[:, 1] = scratch.get_width(), -1    # (the passes below clear it)
         if rim > 0:
             self._outline(scratch, r, rim)
         target.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
@@ -202,6 +213,20 @@ class AddedLight:
         k = int(round(255 * (1.0 - HINT_FILL)))
         eroded.fill((k, k, k), r, pygame.BLEND_RGB_MULT)
         scratch.blit(eroded, r, r, pygame.BLEND_RGB_SUB)
+
+
+_byte_rows: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _rows(pix: np.ndarray) -> np.ndarray:
+    """:func:`tabletop.drawing.outline_kernel.rows` of ``pix``, made once per pixels' view
+    (:func:`tabletop.drawing.raster.pixels` keeps one per surface)."""
+    known = _byte_rows.get(id(pix))
+    if known is None or known[0] is not pix:
+        if len(_byte_rows) >= 16:
+            _byte_rows.clear()
+        known = _byte_rows[id(pix)] = (pix, outline_kernel.rows(pix))
+    return known[1]
 
 
 def hint_label(window: tuple[int, int], action: str, around: pygame.Rect, color: Color,

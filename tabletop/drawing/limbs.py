@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from tabletop.drawing.blend import fill, pen, put
+from tabletop.drawing.blend import fill, mark, pen, put
 from tabletop.drawing.discs import disc
 from tabletop.drawing.kernel_cache import kernel
 
@@ -67,10 +67,11 @@ def _row(y: float, ax: float, ay: float, bx: float, by: float, vx: float, vy: fl
 
 @kernel
 def capsule(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, bx: float, by: float,
-            w: float, col: int) -> None:
+            w: float, col: int, spans: np.ndarray | None = None) -> None:
     """A limb from (ax, ay) to (bx, by): every pixel within ``w`` px of the segment (round
     ends), its sides anti-aliased. Each row is walked only where the limb crosses it, and
-    distances are measured only near its sides."""
+    distances are measured only near its sides; each row's pixels marked in ``spans``
+    (:func:`tabletop.drawing.blend.mark`)."""
     if not (w > 0.0 and -30000.0 < ax < 30000.0 and -30000.0 < ay < 30000.0
             and -30000.0 < bx < 30000.0 and -30000.0 < by < 30000.0):
         return
@@ -91,6 +92,7 @@ def capsule(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, bx: float, b
         xa, xb = max(0, int(math.ceil(lo))), min(W - 1, int(math.floor(hi)))
         if xa > xb:
             continue
+        mark(spans, y, xa, xb)
         ia, ib = xb + 1, xb
         if inner > 0.0:
             lo, hi = _row(y, ax, ay, bx, by, vx, vy, ll, ux, uy, ivx, iuy, inner)
@@ -189,11 +191,12 @@ def _cone_sd(px: float, py: float, vx: float, vy: float, l2: float, a2: float, s
 
 @kernel
 def cone(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, ra: float, bx: float,
-         by: float, rb: float, col: int) -> None:
+         by: float, rb: float, col: int, spans: np.ndarray | None = None) -> None:
     """A tapered limb: every pixel within the hull of the discs of radius ``ra`` px around
     (ax, ay) and ``rb`` around (bx, by), its sides anti-aliased by their distance (a joint's
     disc is the limb's own round end). Rows are walked only where the limb crosses them and
-    distances measured only near its sides."""
+    distances measured only near its sides; each row's pixels marked in ``spans``
+    (:func:`tabletop.drawing.blend.mark`)."""
     if not (-30000.0 < ax < 30000.0 and -30000.0 < ay < 30000.0 and -30000.0 < bx < 30000.0
             and -30000.0 < by < 30000.0 and 0.0 < ra < 30000.0 and 0.0 < rb < 30000.0):
         return
@@ -202,9 +205,9 @@ def cone(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, ra: float, bx: 
     rr = ra - rb
     if l2 <= rr * rr + 1e-9:                   # one disc holds the other
         if rb > ra:
-            disc(pix, fmt, bx, by, rb, col)
+            disc(pix, fmt, bx, by, rb, col, spans)
         else:
-            disc(pix, fmt, ax, ay, ra, col)
+            disc(pix, fmt, ax, ay, ra, col, spans)
         return
     W, H = pix.shape[0], pix.shape[1]
     ea, eb = ra + 0.5, rb + 0.5
@@ -224,6 +227,7 @@ def cone(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, ra: float, bx: 
         xa, xb = max(0, int(math.ceil(lo))), min(W - 1, int(math.floor(hi)))
         if xa > xb:
             continue
+        mark(spans, y, xa, xb)
         ia, ib = xb + 1, xb
         if ia_ > 0.0 or ib_ > 0.0:
             lo, hi = _cone_row(y, ax, ay, ia_, bx, by, ib_, inner, si)

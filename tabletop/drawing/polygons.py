@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from tabletop.drawing.blend import fill, pen, put
+from tabletop.drawing.blend import fill, mark, pen, put
 from tabletop.drawing.kernel_cache import kernel
 
 
@@ -71,9 +71,10 @@ def _edge(acc: np.ndarray, X0: int, Y0: int, x0: float, y0: float, x1: float, y1
 
 @kernel
 def polygon(pix: np.ndarray, fmt: np.ndarray, xs: np.ndarray, ys: np.ndarray, n: int,
-            col: int) -> None:
+            col: int, spans: np.ndarray | None = None) -> None:
     """A filled polygon (first ``n`` points of ``xs``, ``ys``, px), its edges anti-aliased by
-    the exact area covered (non-zero winding)."""
+    the exact area covered (non-zero winding); each row's pixels marked in ``spans``
+    (:func:`tabletop.drawing.blend.mark`)."""
     if n < 3:
         return
     W, H = pix.shape[0], pix.shape[1]
@@ -100,6 +101,7 @@ def polygon(pix: np.ndarray, fmt: np.ndarray, xs: np.ndarray, ys: np.ndarray, n:
     words = hit.view(np.uint64)
     for r in range(acc.shape[0]):
         y, s, c = Y0 + r, 0.0, 0
+        lo, hi = X1 + 1, X0 - 1        # the row's pixels drawn (for spans)
         row = acc[r]
         for x in range(cols):
             hit[x] = row[x] != 0.0
@@ -119,19 +121,23 @@ def polygon(pix: np.ndarray, fmt: np.ndarray, xs: np.ndarray, ys: np.ndarray, n:
             elif k > 0:
                 for x in range(X0 + c, X0 + e):
                     put(pix, x, y, ink, cov)
+            if spans is not None:
+                if k > 0:
+                    lo, hi = min(lo, X0 + c), X0 + e - 1
             c = e
+        mark(spans, y, lo, hi)
 
 
 @kernel
 def ellipse(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, rx: float, ry: float,
-            angle: float, n: int, col: int) -> None:
+            angle: float, n: int, col: int, spans: np.ndarray | None = None) -> None:
     """A filled ellipse as an ``n``-gon: semi-axes ``rx`` along ``angle`` (screen radians) and
-    ``ry`` across it."""
+    ``ry`` across it (``spans``: :func:`polygon`)."""
     xs, ys = np.empty(n), np.empty(n)
     ca, sa = math.cos(angle), math.sin(angle)
     for i in range(n):
         u, v = math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n)
         xs[i] = cx + ca * rx * u - sa * ry * v
         ys[i] = cy + sa * rx * u + ca * ry * v
-    polygon(pix, fmt, xs, ys, n, col)
+    polygon(pix, fmt, xs, ys, n, col, spans)
 

@@ -107,9 +107,12 @@ def warm() -> None:
     lp = np.array([2, 7, 3, 1, 10, 2, 0, 0, 1, 2, 1, 2], dtype=np.int64)
     draw(surf, reactor, uv, uv[:2].copy(), m, 1.0, 30.0, 30.0, 20.0, 1.0, 0.0, 0.0, 1, 2, 3, 4,
          0.5, 0.0, 0.0, 5, 6)
-    draw(surf, figure, q, np.full(3, 1.0), tp, CREATURE, 2.0, 2.0, 30.0, True, 1, 2, 3, 0.0, 0.0,
-         1.0, 4, 5, 0.0, 0.0, math.nan)
-    draw(surf, face, q, lp, 1.5, 1, 2, 3, 4, 1.0, 0.0, 0.0, 3)
+    # characters drawn as themselves (no spans) and as hinted poses (their rows' spans marked)
+    for spans in (None, np.zeros((64, 2), dtype=np.int64)):
+        draw(surf, figure, q, np.full(3, 1.0), tp, CREATURE, 2.0, 2.0, 30.0, True, 1, 2, 3,
+             0.0, 0.0, 1.0, 4, 5, 0.0, 0.0, math.nan, spans)
+        draw(surf, face, q, lp, 1.5, 1, 2, 3, 4, 1.0, 0.0, 0.0, 3, spans)
+        draw(surf, discs, q, 2.0, 1, spans)
     draw(surf, discs, q, 2.0, 1)
     bare = pygame.Surface((64, 64), 0, 32)
     draw(surf, uncover, *pixels(bare), np.array([(30.0, 30.0, 5.0)]))

@@ -105,18 +105,19 @@ def test_a_hints_light_is_added_again_once_while_its_points_are_the_same():
     class Counted(L.AddedLight):
         painted = 0
 
-        def add(self, target, paint, rim=0, key=None, points=None):
-            def counted(s):
+        def add(self, target, paint, rim=0, key=None, points=None, marks=False):
+            def counted(*args):
                 self.painted += 1
-                return paint(s)
-            return super().add(target, counted, rim, key, points)
+                return paint(*args)
+            return super().add(target, counted, rim, key, points, marks)
 
     def run(twice: bool, keyed: bool) -> tuple[int, int]:
         r = Renderer(TABLE, SIZE)
         r._light = Counted()
         if not keyed:
             plain = r._light.add
-            r._light.add = lambda t, p, rim=0, key=None, points=None: plain(t, p, rim)
+            r._light.add = lambda t, p, rim=0, key=None, points=None, marks=False: plain(
+                t, p, rim, marks=marks)
         s = pygame.Surface(SIZE)
         state = creature(True)
         for k in range(60):
@@ -132,3 +133,50 @@ def test_a_hints_light_is_added_again_once_while_its_points_are_the_same():
     # with new points every frame); its light 2,999,773 kept, 3,000,103 painted every frame
     assert kept[0] <= every[0] // 2 + 2 and every[0] == once[0] >= 55, (kept, every, once)
     assert abs(kept[1] - every[1]) <= 0.02 * every[1], (kept, every)
+
+
+def test_a_hints_outline_walks_only_the_spans_its_figure_drew_and_adds_the_same():
+    """The figure's kernels mark each row's span they draw; the outline walks only those: every
+    lit pixel lies in its row's span, the spans hold a fraction of the rectangle (measured:
+    23 % in bench/view.py's hinted scene; 196 -> 98 us per hint), and the view is the very one
+    walked over the whole rectangle (the skeleton's, the creature's, the bird's and the face's
+    hints)."""
+    from tabletop.drawing import light as L
+    from tabletop.scene_frames import TABLE as BUSY, busy_frames, hinted_frames
+
+    seen = []
+
+    class Spied(L.AddedLight):
+        def add(self, target, paint, rim=0, key=None, points=None, marks=False):
+            def spied(s, spans):
+                r = paint(s, spans)
+                lit = rgb(s).sum(axis=2) > 0
+                rows = np.arange(lit.shape[0])[:, None]
+                cols = np.arange(lit.shape[1])[None, :]
+                inside = (cols >= spans[:, :1]) & (cols <= spans[:, 1:])
+                seen.append((int((lit & ~inside).sum()), int(lit.sum()),
+                             int(np.clip(spans[:, 1] - spans[:, 0] + 1, 0, None).sum()),
+                             r.w * r.h, rows.size))
+                return r
+            return super().add(target, spied, rim, key, points, marks)
+
+    class Whole(L.AddedLight):       # spans unknown: every row of the rectangle walked
+        def add(self, target, paint, rim=0, key=None, points=None, marks=False):
+            return super().add(target, lambda s: paint(s, None), rim, key, points)
+
+    frames = hinted_frames(busy_frames(10), ("dancer0", "salamander", "bird", "face"))
+    views = []
+    for light in (Spied(), Whole()):
+        r = Renderer(BUSY, SIZE, margin=24)
+        r._light = light
+        s = pygame.Surface(SIZE)
+        for f in frames:
+            r.draw(s, f)
+        views.append(rgb(s))
+    # 4 hints in each of the last 8 frames; the first two of those too faint to light a pixel
+    # (their inks round to black)
+    assert len(seen) == 32 and all(out == 0 for out, *_ in seen), seen
+    assert sum(lit > 2000 for _, lit, *_ in seen) >= 24, seen
+    share = sum(span for _, _, span, _, _ in seen) / sum(area for *_, area, _ in seen)
+    assert share < 0.35, share
+    assert np.array_equal(views[0], views[1])
