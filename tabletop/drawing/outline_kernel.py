@@ -122,8 +122,10 @@ def _black(row: np.ndarray, spans: np.ndarray, y: int, black: np.ndarray, x0: in
            W: int) -> None:
     """Row ``y``'s span (within x0..x1-1) of the scratch black again, and the span empty."""
     a, b = max(x0, spans[y, 0]), min(x1, spans[y, 1] + 1)
-    for i in range(4 * a, 4 * b):
-        row[i] &= black[i - 4 * x0]
+    if a < b:
+        span, keeps = row[4 * a:4 * b], black[4 * (a - x0):4 * (b - x0)]
+        for i in range(span.shape[0]):     # (from 0: no negative index to wrap, vectorised)
+            span[i] &= keeps[i]
     spans[y, 0], spans[y, 1] = W, -1
 
 
