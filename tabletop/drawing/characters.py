@@ -22,8 +22,8 @@ from tabletop.drawing import primitives as P
 from tabletop.drawing.discs import discs
 from tabletop.drawing.fit import rigid_onto
 from tabletop.drawing import screens
-from tabletop.drawing.palette import (EYE_WHITE, INK, TABLE, Color, fade, lighten, remember,
-                                      rgb, shade)
+from tabletop.drawing.palette import (EYE_WHITE, INK, TABLE, Color, fade, level, lighten,
+                                      remember, shade)
 from tabletop.drawing.reading import Reading
 from tabletop.drawing.topology import face_loops, hybrid_parts, topology
 from tabletop.frames import CharacterState
@@ -78,20 +78,42 @@ def inks(color: Color, alpha: float, ground: Color = TABLE) -> tuple[int, ...]:
     are of the body's own light, its white the lightest and its pupils the body: an eye white
     faded toward black was light, but a pupil of ink was none, a dark hole in the faint figure.
     """
-    key = (color, alpha, ground)
+    # remembered by the opacity's 1/128 step, all they depend on (palette.fade): by the
+    # opacity itself, a hinted pose's strength (smoothed toward its probability) or a fading
+    # character missed every frame, ~0.1 ms each (bench/view.py's hinted scene, its first
+    # pass: 6.4 misses a frame, 0.59 ms)
+    a = level(alpha)
+    key = (color, a, ground)
     try:
         return _inks[key]
     except KeyError:
         pass
     except TypeError:          # a colour given as a list
-        key = (tuple(color), alpha, tuple(ground))
+        key = (tuple(color), a, tuple(ground))
         if key in _inks:
             return _inks[key]
-    c, g = key[0], key[2]
-    eyes = (lighten(c, 0.35), c) if g == (0, 0, 0) else (EYE_WHITE, INK)
-    out = tuple(rgb(fade(shade(c, k), alpha, g)) for k in (0.62, 0.68, 0.7, 0.72, 1.0)) + tuple(
-        rgb(fade(x, alpha, g)) for x in (lighten(c, 0.18), lighten(c, 0.35), *eyes))
+    g, w = key[2], a / 128.0
+    g0, g1, g2 = g
+    # each faded as palette.fade fades it (its mix's arithmetic, to the bit), not through its
+    # three remembered layers: a miss 60 -> ~10 us
+    out = tuple((int(round(g0 + (r - g0) * w)) << 16) | (int(round(g1 + (gr - g1) * w)) << 8)
+                | int(round(g2 + (b - g2) * w)) for r, gr, b in _ink_bases(key[0], g))
     return remember(_inks, key, out, 4096)
+
+
+_bases: dict[tuple, tuple[Color, ...]] = {}
+
+
+def _ink_bases(c: Color, g: Color) -> tuple[Color, ...]:
+    """:func:`inks`' nine colours of a character of colour ``c`` before they are faded over
+    ``g`` (remembered)."""
+    key = (c, g)
+    out = _bases.get(key)
+    if out is None:
+        eyes = (lighten(c, 0.35), c) if g == (0, 0, 0) else (EYE_WHITE, INK)
+        out = remember(_bases, key, tuple(shade(c, k) for k in (0.62, 0.68, 0.7, 0.72, 1.0))
+                       + (lighten(c, 0.18), lighten(c, 0.35), *eyes), 1024)
+    return out
 
 
 def _squash(pose: Pose) -> tuple[float, float, float, float]:

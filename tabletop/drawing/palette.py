@@ -98,6 +98,11 @@ def remember(cache: dict[Any, T], key: Any, value: T, limit: int) -> T:
 _faded: dict[tuple, Color] = {}
 
 
+def level(alpha: float) -> int:
+    """An opacity (0..1) in the 1/128 steps colours are faded in (:func:`fade`)."""
+    return int(round(max(0.0, min(1.0, alpha)) * 128))
+
+
 def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
     """The colour seen when ``color`` is shown at opacity ``alpha`` over ``ground`` (alpha in
     1/128 steps: the same few colours recur frame after frame and are remembered)."""
@@ -107,9 +112,8 @@ def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
     except KeyError:
         pass
     except TypeError:         # a colour given as a list
-        return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
-    level = int(round(max(0.0, min(1.0, alpha)) * 128))
-    return remember(_faded, key, _fade(tuple(color), level, tuple(ground)), 4096)
+        return _fade(tuple(color), level(alpha), tuple(ground))
+    return remember(_faded, key, _fade(tuple(color), level(alpha), tuple(ground)), 4096)
 
 
 @functools.lru_cache(maxsize=4096)
