@@ -6,9 +6,8 @@ itself moved ``rim`` px four ways): its edges keep their light, its inside a fra
 Seven pygame passes over the pose's whole rectangle did this (a white fill, four least-of
 blits, a multiplying fill, a subtracting blit) and two more added it and cleared the scratch;
 here one pass reads only the pixels the pose lit (an unlit pixel adds nothing: its erosion is
-no more than itself) and clears the scratch behind it. Compiled once into the cache beside this
-file (``warm``); it calls no compiled function of another file (numba's cache checks only a
-kernel's own file).
+no more than itself) and clears the scratch behind it. Compiled once into the shared cache
+(``warm``; :data:`KERNEL`); it calls no compiled function of another file.
 """
 
 from __future__ import annotations
@@ -16,10 +15,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-_JIT = dict(cache=True, nogil=True)
+from behaviors.kernel_cache import compiled
+
+# numba's ``njit(cache=True, nogil=True)`` in the shared cache (see tabletop.drawing.dirty.KERNEL)
+KERNEL = compiled(None, error_model="python")
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def add_outline(scratch: np.ndarray, target: np.ndarray, fmt: np.ndarray, x0: int, y0: int,
                 x1: int, y1: int, rim: int, keep: int, kept: np.ndarray,
                 keeping: bool) -> None:
