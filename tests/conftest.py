@@ -2,6 +2,7 @@
 pytest-xdist the longest test files start first, shared between the workers."""
 
 import os
+import sys
 
 import pytest
 
@@ -86,6 +87,32 @@ def parts_long_first(items: list, weights: dict[str, float], parts: int = 2) -> 
         out += head + rest[:fill]
         rest = rest[fill:]
     return out + rest
+
+
+class _LocalConstantsWhereUsed:
+    """Hypothesis' plugin reads the literals of every project module imported so far (its
+    "local constants", for its strategies) as each process ends its collection: every xdist
+    worker collects test_fuzz.py, so all four did (a collection 6.5-6.8 -> 5.1-5.7 CPU s where
+    ``.hypothesis/constants`` is cold: a fresh clone), though only a worker that runs a
+    ``@given`` test uses them. Left to that worker's first example, where Hypothesis reads
+    them anyway with the modules imported since: the same constants, the same search."""
+
+    @pytest.hookimpl(hookwrapper=True)
+    def pytest_collection_modifyitems(self):
+        providers = sys.modules.get("hypothesis.internal.conjecture.providers")
+        read = getattr(providers, "_get_local_constants", None)
+        if read is None:     # no @given test collected (or Hypothesis renamed it)
+            yield
+            return
+        providers._get_local_constants = lambda: providers._local_constants
+        try:
+            yield
+        finally:
+            providers._get_local_constants = read
+
+
+def pytest_configure(config):
+    config.pluginmanager.register(_LocalConstantsWhereUsed(), "local-constants-where-used")
 
 
 def pytest_collection_modifyitems(config, items):

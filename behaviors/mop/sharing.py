@@ -50,7 +50,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from behaviors.kernel_cache import lazy
+from behaviors.kernel_cache import compiled
 
 _F1 = numba.float64[::1]
 _F2 = numba.float64[:, ::1]
@@ -72,7 +72,8 @@ def shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes
                          np.ascontiguousarray(sizes, dtype=float), by, int(skip))
 
 
-@lazy(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F2, numba.intp), cache=True, nogil=True)
+# (numba's ``njit(cache=True, nogil=True)``, in the shared cache: see tabletop.drawing.dirty.KERNEL)
+@compiled(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F2, numba.intp), error_model="python")
 def _shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes: np.ndarray,
                   radius: np.ndarray, skip: int) -> np.ndarray:
     """:func:`shared_until` compiled, ``radius`` (K, d) per template ``b``."""

@@ -78,8 +78,12 @@ from __future__ import annotations
 import functools
 import math
 
-import numba
 import numpy as np
+
+from behaviors.kernel_cache import compiled
+
+# numba's ``njit(cache=True, nogil=True)`` in the shared cache (see tabletop.drawing.dirty.KERNEL)
+KERNEL = compiled(None, error_model="python")
 
 #: ... from this many states behind its followed state to this many ahead ...
 TAKE_REACH = (30, 3)
@@ -92,7 +96,7 @@ def outwards(sizes: tuple[float, ...]) -> np.ndarray:
     return np.array(sorted(sizes, key=lambda f: abs(math.log(f))))
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def _nearest2(z: np.ndarray, path: np.ndarray) -> float:
     """The squared distance from point ``z`` (d,) to the nearest of the segments joining the
     states ``path`` (m, d)."""
@@ -113,7 +117,7 @@ def _nearest2(z: np.ndarray, path: np.ndarray) -> float:
     return nearest
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def _read_near2(x: np.ndarray, scale: np.ndarray, first: np.ndarray, size: float,
                 path: np.ndarray, z: np.ndarray) -> float:
     """:func:`_nearest2` of sample ``x`` (d,: raw, from the anchor) read at ``size`` in a
@@ -123,7 +127,7 @@ def _read_near2(x: np.ndarray, scale: np.ndarray, first: np.ndarray, size: float
     return _nearest2(z, path)
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def _forgotten_weight(n: int, decay: float) -> float:
     """The sum of the weights of ``n`` samples forgotten with ``decay`` per sample (1 for the
     last), summed as the misfit's terms are."""
@@ -134,7 +138,7 @@ def _forgotten_weight(n: int, decay: float) -> float:
     return weight
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
               size: float, least: float, decay: float, norm: float, sizes: np.ndarray,
               limit: float) -> float:
@@ -159,7 +163,7 @@ def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
     return best_size
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
               size: float, lo: float, hi: float, decay: float, norm: float,
               sizes: np.ndarray, limit: float) -> bool:
@@ -188,7 +192,7 @@ def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
     return False
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def take_fits_at(samples: np.ndarray, means: np.ndarray, off: int, start: int, length: int,
                  g: float, scale: np.ndarray, first: np.ndarray, size: float, lo: float,
                  hi: float, decay: float, norm: float, sizes: np.ndarray,
@@ -209,7 +213,7 @@ def take_fits_at(samples: np.ndarray, means: np.ndarray, off: int, start: int, l
                      decay, norm, sizes, limit)
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def size_of_refused(samples: np.ndarray, means: np.ndarray, arc: np.ndarray, off: int,
                     start: int, length: int, g: float, scale: np.ndarray, first: np.ndarray,
                     size: float, least: float, decay: float, norm: float, sizes: np.ndarray,

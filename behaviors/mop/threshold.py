@@ -156,8 +156,12 @@ median and 1.11 to 1.32 ms p99, most of DESIGN's 1 ms left; not kept.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
+
+from behaviors.kernel_cache import compiled
+
+# numba's ``njit(cache=True, nogil=True)`` in the shared cache (see tabletop.drawing.dirty.KERNEL)
+KERNEL = compiled(None, error_model="python")
 
 #: Self weight of every state of the threshold model (the templates' own ``transitions[0]``).
 STAY = 0.3
@@ -197,7 +201,7 @@ def mirrored_column(z: np.ndarray, first: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.hstack([z, 2.0 * first[:, :1] - z[:, :1]]))
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, sigma: float,
                          log_constant: float, log_jacobian: np.ndarray, alpha: np.ndarray,
                          scratch: np.ndarray, fresh: bool, stay: float) -> float:
@@ -283,7 +287,7 @@ def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, 
     return float(top) + np.log(total)
 
 
-@numba.njit(cache=True, nogil=True)
+@KERNEL
 def _entry_weights(alpha: np.ndarray, lengths: np.ndarray, n: int, entries: int) -> None:
     """The threshold model's weights afresh, in place: even on the ``n`` ergodic states and
     each mirror chain's first (``entries`` of them), none on the chains' other states."""

@@ -42,7 +42,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from behaviors.kernel_cache import lazy
+from behaviors.kernel_cache import compiled
 
 BLOCK = 512
 
@@ -51,8 +51,8 @@ _F1, _F2, _S1, _S2 = (numba.float64[::1], numba.float64[:, ::1], numba.float32[:
 _I = numba.int64
 
 
-@lazy(numba.void(_S2, _S1, numba.float32, _I, _I, _S1, numba.float32, _I), cache=True,
-      nogil=True)
+# (numba's ``njit(cache=True, nogil=True)``, in the shared cache: see tabletop.drawing.dirty.KERNEL)
+@compiled(numba.void(_S2, _S1, numba.float32, _I, _I, _S1, numba.float32, _I), error_model="python")
 def energies(aug: np.ndarray, q: np.ndarray, xx: float, j0: int, j1: int,
              out: np.ndarray, g: float, g0: int) -> None:
     """``out[i]`` = E of the query (``q`` = -2x (d,), ``xx`` = |x|^2) against training vector
@@ -95,7 +95,7 @@ def energies(aug: np.ndarray, q: np.ndarray, xx: float, j0: int, j1: int,
             o[i] += qc * row[i]
 
 
-@lazy(numba.float32(_F1, numba.float64, _I, _S2, _S1, _S1, _I), cache=True, nogil=True)
+@compiled(numba.float32(_F1, numba.float64, _I, _S2, _S1, _S1, _I), error_model="python")
 def query(x: np.ndarray, g: float, g0: int, queries: np.ndarray, norms: np.ndarray,
           gates: np.ndarray, slot: int) -> float:
     """Store the live vector ``x`` (d,) as a query in ``slot``: -2x (its columns from ``g0``
@@ -117,7 +117,7 @@ def query(x: np.ndarray, g: float, g0: int, queries: np.ndarray, norms: np.ndarr
     return gates[slot]
 
 
-@lazy(numba.float64(_F1, _I, _I), cache=True, nogil=True)
+@compiled(numba.float64(_F1, _I, _I), error_model="python")
 def least(buf: np.ndarray, p0: int, p1: int) -> float:
     """Least of buf[p0: p1] (inf if empty), with four running minima."""
     b = buf[p0:p1]
@@ -137,7 +137,7 @@ def least(buf: np.ndarray, p0: int, p1: int) -> float:
     return m2 if m2 < m0 else m0
 
 
-@lazy(_I(_F1, _I, _I, numba.float64), cache=True, nogil=True)
+@compiled(_I(_F1, _I, _I, numba.float64), error_model="python")
 def first(buf: np.ndarray, p0: int, p1: int, value: float) -> int:
     """First p in p0 .. p1 - 1 with buf[p] == value (p1 if none)."""
     for p in range(p0, p1):
@@ -146,9 +146,9 @@ def first(buf: np.ndarray, p0: int, p1: int, value: float) -> int:
     return p1
 
 
-@lazy(numba.types.Tuple((_I, _I, numba.float64))(
+@compiled(numba.types.Tuple((_I, _I, numba.float64))(
     _S2, _F1, _I, _I, _S2, _S1, _I, _F1, numba.float64, numba.float64, _I, _I, _S1, _S1,
-    _S1, numba.float64, _I), cache=True, nogil=True)
+    _S1, numba.float64, _I), error_model="python")
 def situation_push(aug: np.ndarray, buf: np.ndarray, o: int, n: int, queries: np.ndarray,
                    norms: np.ndarray, k: int, x: np.ndarray, lam: float, lam_n: float,
                    lo: int, hi: int, e_new: np.ndarray, e_old: np.ndarray, gates: np.ndarray,
@@ -206,8 +206,8 @@ def situation_push(aug: np.ndarray, buf: np.ndarray, o: int, n: int, queries: np
     return o, best_j, best
 
 
-@lazy(numba.void(_S2, _F1, _I, _S2, _S1, _F2, numba.float64, _S1, _S1, _F1, _I),
-      cache=True, nogil=True)
+@compiled(numba.void(_S2, _F1, _I, _S2, _S1, _F2, numba.float64, _S1, _S1, _F1, _I),
+      error_model="python")
 def situation_reset(aug: np.ndarray, dist: np.ndarray, n: int, queries: np.ndarray,
                     norms: np.ndarray, window: np.ndarray, lam: float, e: np.ndarray,
                     gates: np.ndarray, window_gates: np.ndarray, g0: int) -> None:
@@ -230,9 +230,9 @@ def situation_reset(aug: np.ndarray, dist: np.ndarray, n: int, queries: np.ndarr
 NO_SOURCE = np.iinfo(np.int64).min   # a base of a live vector not generated from the training
 
 
-@lazy(numba.types.Tuple((_I, numba.float64))(
+@compiled(numba.types.Tuple((_I, numba.float64))(
     _F2, _F2, numba.int64[::1], numba.int64[::1], numba.boolean[::1], _F1, _F1),
-    cache=True, nogil=True)
+    error_model="python")
 def coherence_best(y: np.ndarray, buf: np.ndarray, bases: np.ndarray, ik: np.ndarray,
                    valid: np.ndarray, sy: np.ndarray, sx: np.ndarray) -> tuple[int, float]:
     """Best proposed training window for the live window ``buf[i + 1: i + 1 + n]`` (n, d)
@@ -297,8 +297,8 @@ def coherence_best(y: np.ndarray, buf: np.ndarray, bases: np.ndarray, ik: np.nda
     return best_c, max(best + sx[0], 0.0)
 
 
-@lazy(numba.void(_F2, _F1, numba.int64[::1], _F1, numba.int64[::1], _F1, _I),
-      cache=True, nogil=True)
+@compiled(numba.void(_F2, _F1, numba.int64[::1], _F1, numba.int64[::1], _F1, _I),
+      error_model="python")
 def coherence_push(buf: np.ndarray, sq: np.ndarray, bases: np.ndarray, sx: np.ndarray,
                    ik: np.ndarray, x: np.ndarray, source: int) -> None:
     """Add the newest live vector ``x`` (d,) to the coherence ring (see coherence_best) with

@@ -7,9 +7,8 @@ the last frame's rectangles merged covered ~443,000 px, their 16 px tiles ~355,0
 themselves ~334,000). Every pixel repainted is a pixel copied from the table's image and again
 sent to the X server. A glow or a halo lights only the disc inside its square: marking only the
 tiles of that disc (:class:`tabletop.drawing.primitives.Disc`) took the busy frame's tiles from
-~348,000 to ~325,000 px (same pixels drawn: the corners are dark). Compiled once into the cache
-beside this file (``warm``); its kernels call no compiled function of another file (numba's
-cache checks only a kernel's own file).
+~348,000 to ~325,000 px (same pixels drawn: the corners are dark). Compiled once into the shared
+cache (``warm``; :data:`KERNEL`); its kernels call no compiled function of another file.
 """
 
 from __future__ import annotations
@@ -18,12 +17,12 @@ import os
 from itertools import chain, starmap
 from typing import Sequence
 
-import numba
 import numpy as np
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import pygame  # noqa: E402
 
+from behaviors.kernel_cache import compiled  # noqa: E402
 from tabletop.drawing.primitives import Disc, Parts, disc_rect  # noqa: E402
 
 TILE = 16        # pixels per tile side
@@ -34,10 +33,14 @@ PAD = 2          # pixels added around each rectangle (anti-aliased edges may sp
 # joined further (<= 8,000 px: 4 rectangles, 393k px) no better, the bounding box worse.
 SLACK = 2000     # px a join of two presented rectangles may add
 
-_JIT = dict(cache=True, nogil=True)
+# numba's ``njit(cache=True, nogil=True)`` (its own error model, "python"), cached in the shared
+# cache under the stamp of this file (behaviors.kernel_cache.compiled): a fresh clone loads what
+# another copy of the project built instead of compiling it beside this file (``make kernels``
+# on a fresh clone: the view's build 13.7 -> 1.1 CPU s with those of pose, halo and outline)
+KERNEL = compiled(None, error_model="python")
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def cover(grid: np.ndarray, rects: np.ndarray, tile: int, pad: int) -> None:
     """Mark in ``grid`` (tile rows x tile columns, uint8) every tile that a rectangle of
     ``rects`` (N x 4: x, y, width, height px) grown by ``pad`` px on every side touches."""
@@ -54,7 +57,7 @@ def cover(grid: np.ndarray, rects: np.ndarray, tile: int, pad: int) -> None:
                 grid[r, c] = 1
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def cover_discs(grid: np.ndarray, discs: np.ndarray, tile: int, pad: int) -> None:
     """Mark in ``grid`` every tile holding a pixel nearer than radius + ``pad`` to the centre of
     a disc of ``discs`` (N x 3: centre x, y, radius px): a glow lights only its disc."""
@@ -73,7 +76,7 @@ def cover_discs(grid: np.ndarray, discs: np.ndarray, tile: int, pad: int) -> Non
                     grid[r, c] = 1
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def boxes(grid: np.ndarray, tile: int, width: int, height: int, out: np.ndarray) -> int:
     """The marked tiles of ``grid`` as rectangles (x, y, width, height px, clipped to
     ``width`` x ``height``) into ``out`` (at least rows x (columns // 2 + 1) rows): each row's runs
@@ -104,7 +107,7 @@ def boxes(grid: np.ndarray, tile: int, width: int, height: int, out: np.ndarray)
     return n
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def merge(out: np.ndarray, n: int, slack: int) -> int:
     """Join rectangles of ``out[:n]`` (x, y, width, height px, not overlapping) two by two
     into their bounding box while it adds at most ``slack`` px to theirs and meets no other;

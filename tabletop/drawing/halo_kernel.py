@@ -3,25 +3,26 @@ ring's radius, width and strength, its heading notch and the rectangle it touche
 
 Per puck this was ~40 Python-level operations (the mapping through the homography, the state's
 pulse or widening, the notch's place and colour); one call for all of them leaves the view's
-Python only the cached rings to look up. Compiled once into the cache beside this file
-(``warm``); it calls no compiled function of another file (numba's cache checks only a
-kernel's own file).
+Python only the cached rings to look up. Compiled once into the shared cache (``warm``;
+:data:`KERNEL`); it calls no compiled function of another file.
 """
 
 from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
+
+from behaviors.kernel_cache import compiled
 
 SEEN, COASTING, LOST = 0, 1, 2     # puck state codes
 FIELDS = 13                        # columns of :func:`halos`' output
 
-_JIT = dict(cache=True, nogil=True)
+# numba's ``njit(cache=True, nogil=True)`` in the shared cache (see tabletop.drawing.dirty.KERNEL)
+KERNEL = compiled(None, error_model="python")
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def halos(v: np.ndarray, state: np.ndarray, alpha: np.ndarray, H: np.ndarray, radius_m: float,
           pulse: float, table: np.ndarray, out: np.ndarray) -> None:
     """Halo geometry of pucks at ``v`` (N x 3: table x, y metres and heading radians) in

@@ -7,8 +7,8 @@ Seven pygame passes over the pose's whole rectangle did this (a white fill, four
 blits, a multiplying fill, a subtracting blit) and two more added it and cleared the scratch;
 here one pass walks only each row's span the paint drew (its first to its last pixel, marked
 by the drawing's kernels: :func:`tabletop.drawing.blend.mark`) and clears the scratch behind
-it. Compiled once into the cache beside this file (``warm``); it calls no compiled function of
-another file (numba's cache checks only a kernel's own file).
+it. Compiled once into the shared cache (``warm``; :data:`KERNEL`); it calls no compiled
+function of another file.
 """
 
 from __future__ import annotations
@@ -16,7 +16,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-_JIT = dict(cache=True, nogil=True)
+from behaviors.kernel_cache import compiled
+
+# numba's ``njit(cache=True, nogil=True)`` in the shared cache (see tabletop.drawing.dirty.KERNEL)
+KERNEL = compiled(None, error_model="python")
 
 
 # Each row's span is worked a byte at a time, in single floats (exact: every value is an integer
@@ -25,7 +28,7 @@ _JIT = dict(cache=True, nogil=True)
 # hint's rectangle, 1.4 times its lit pixels (bench/view.py's hinted scene, 384 hints at
 # 1280x720 and at 1920x1080); over the whole rectangle this form was 1.24 times slower than the
 # per-pixel one, over the spans twice as fast (in place, per hint: 196 -> 98 us median).
-@numba.njit(**_JIT)
+@KERNEL
 def add_outline(scratch: np.ndarray, target: np.ndarray, kept: np.ndarray, fmt: np.ndarray,
                 x0: int, y0: int, x1: int, y1: int, rim: int, keep: int, keeping: bool,
                 spans: np.ndarray) -> None:

@@ -3,9 +3,8 @@ gaze and motion direction in one call per frame, and a figure's points mapped to
 about its centre and bounded in one call per figure.
 
 Each was a handful of small numpy operations or a Python loop over the pucks per character
-(~1-3 us apiece); one compiled call replaces them. Compiled once into the cache beside this
-file (``warm``); its kernels call no compiled function of another file (numba's cache checks
-only a kernel's own file).
+(~1-3 us apiece); one compiled call replaces them. Compiled once into the shared cache
+(``warm``; :data:`KERNEL`); its kernels call no compiled function of another file.
 """
 
 from __future__ import annotations
@@ -15,9 +14,12 @@ import math
 import numba
 import numpy as np
 
+from behaviors.kernel_cache import compiled
+
 FIELDS = 8     # columns of :func:`places`' output
 
-_JIT = dict(cache=True, nogil=True)
+# numba's ``njit(cache=True, nogil=True)`` in the shared cache (see tabletop.drawing.dirty.KERNEL)
+KERNEL = compiled(None, error_model="python")
 
 
 @numba.njit(inline="always")
@@ -26,7 +28,7 @@ def _map(H: np.ndarray, x: float, y: float) -> tuple:
     return (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w, (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def places(v: np.ndarray, H: np.ndarray, pucks: np.ndarray, look_range: float,
            out: np.ndarray) -> None:
     """Where characters stand on screen. ``v`` rows (N x 6, table metres and radians): x, y,
@@ -67,7 +69,7 @@ def places(v: np.ndarray, H: np.ndarray, pucks: np.ndarray, look_range: float,
             out[i, 6] = math.atan2(my - py, mx - px)
 
 
-@numba.njit(**_JIT)
+@KERNEL
 def posed(H: np.ndarray, xy: np.ndarray, cx: float, cy: float, k: float) -> tuple:
     """A figure's points on screen: table points (N x 2 metres) mapped to pixels by ``H`` and
     grown by ``k`` about (cx, cy) px, with their bounds: (points N x 2 px, smallest x, y,

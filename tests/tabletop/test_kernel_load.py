@@ -52,18 +52,29 @@ print(json.dumps({"built": len(built), "stepped": len(kernel_cache.PENDING),
 
 RUN_SCRIPTED = """
 import json, sys
+import llvmlite.binding as ll
 import numpy as np
 from tabletop import cli
+parse, parsed = ll.parse_bitcode, []
+ll.parse_bitcode = lambda b: parsed.append(len(b)) or parse(b)
 code = cli.main(["run", "--config", sys.argv[1], "--headless", "--seconds", "0.3"])
 imported = sorted({m.split(".")[0] for m in sys.modules} & {"scipy", "cv2"})
 loaded = "numba.np.arraymath" in sys.modules
 refreshed = "numba.np.polynomial.polynomial_core" in sys.modules   # a registry only
+in_run = len(parsed)
 import numba
+from behaviors.puppet_master.search_kernel import least
 @numba.njit
 def dot(a, b):
     return np.dot(a, b)
+@numba.njit
+def least_twice(x):                  # links the loaded kernel in: its bitcode parsed then
+    return 2.0 * least(x, 0, x.size)
+x = np.array([0.9, 0.3, 0.7, 0.2, 0.6])
 print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refreshed": refreshed,
-                  "dot": dot(np.ones(3), np.arange(3.0))}))
+                  "dot": dot(np.ones(3), np.arange(3.0)), "parsed_in_run": in_run,
+                  "linked": [least_twice(x), 2.0 * least.py_func(x, 0, x.size),
+                             len(parsed) > in_run]}))
 """
 
 
@@ -94,7 +105,9 @@ def test_a_run_without_a_camera_imports_neither_scipy_nor_opencv(tmp_path):
     run's 1.5 CPU s start; behaviors/numba_start.py), nor OpenCV, imported to check the default
     marker dictionary (0.06 s). A kernel calling np.dot still compiles after (numba imports
     SciPy's BLAS then). Nor were numba's registries refreshed for those loads (0.2 CPU s a
-    start: behaviors/numba_start.quick_loads); the kernel compiled after refreshes them."""
+    start: behaviors/numba_start.quick_loads), nor the LLVM bitcode stored with their machine
+    code parsed (0.11-0.17 CPU s: numba_start._unparsed_links); the kernel compiled after
+    refreshes them, and one calling a loaded kernel parses that kernel's bitcode to link it."""
     cfg = tmp_path / "scripted.yaml"
     cfg.write_text(f"""sources: [{{kind: scripted, pucks: [1, 2]}}]
 engines:
@@ -107,3 +120,6 @@ view: {{size: [320, 180]}}
     assert found["imported"] == []
     assert found["refreshed"] is False
     assert found["dot"] == 3.0
+    assert found["parsed_in_run"] == 0
+    twice, python, parsed = found["linked"]
+    assert twice == python and parsed
