@@ -10,11 +10,11 @@ import numpy as np
 
 from tabletop.kiosk.simulate import SimClock
 from tabletop.plugins.mop_files import load_template
-from tests.kiosk.running import Latest, kiosk_built, replays_alike, running, ticked_with_edits
+from tests.kiosk.running import (Latest, Ticked, kiosk_built, replays_alike,
+                                 ticked_with_edits)
 from tests.kiosk.test_bad_action_start import _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames
-from tracking.scenes import wait_for
 
 
 def _scaled(text: str, k: float) -> str:
@@ -52,10 +52,12 @@ def test_a_fixed_action_is_followed_again_when_its_template_is_replaced_later(tm
 def test_a_template_and_a_clip_broken_while_their_actions_play_are_listed_and_play_on(tmp_path):
     """The line template deleted and the wag clip made a folder while the characters play:
     both listed in behavior_errors (each with its file and why), the characters go on playing
-    the line as read at the start, nothing stops; the template put back drops its entry."""
+    the line as read at the start, nothing stops; the template put back drops its entry. On
+    simulated time (its waits are table seconds)."""
     cfg_path, good = drawing_config(tmp_path)
     session = tmp_path / "session.jsonl"
-    inst, refused = kiosk_built(cfg_path, record_path=session)
+    clock = SimClock()
+    inst, refused = kiosk_built(cfg_path, clock=clock, record_path=session)
     assert refused is None
     stage = inst.engines[0]
     latest = Latest()
@@ -66,30 +68,31 @@ def test_a_template_and_a_clip_broken_while_their_actions_play_are_listed_and_pl
 
     def errors() -> list:
         return status(tmp_path).get("behavior_errors", [])
-    with running(inst, 60):
-        assert wait_for(playing_line, 20.0)
+    with Ticked(inst, clock) as table:
+        assert table.until(playing_line, 20.0)
+        assert table.until(lambda: "behavior_errors" in status(tmp_path), 2.0)
         assert errors() == []
         (tmp_path / "line.csv").unlink()
         (tmp_path / "wag.json").unlink()
         (tmp_path / "wag.json").mkdir()
-        assert wait_for(lambda: len(errors()) == 3, 10.0), status(tmp_path)
+        assert table.until(lambda: len(errors()) == 3, 10.0), status(tmp_path)
         listed = errors()
         assert all("\n" not in e for e in listed)
         assert sum(e.startswith("mop: character") and "action 'line'" in e and "line.csv" in e
                    and "not found" in e for e in listed) == 2, listed
         assert any("'walker', action 'square'" in e and "wag.json" in e and "folder" in e
                    for e in listed), listed
-        assert wait_for(lambda: not playing_line(), 20.0)        # the gesture's end
-        assert wait_for(playing_line, 20.0)                       # and the next one, as read
+        assert table.until(lambda: not playing_line(), 20.0)        # the gesture's end
+        assert table.until(playing_line, 20.0)                       # and the next one, as read
         assert {n: set(t) for n, t in stage.templates.items()} == {
             "walker": {"circle", "line", "square"}, "lone": {"line"}}
         (tmp_path / "line.csv").write_text(good["line.csv"])
-        assert wait_for(lambda: len(errors()) == 1, 10.0), status(tmp_path)
+        assert table.until(lambda: len(errors()) == 1, 10.0), status(tmp_path)
         assert "wag.json" in errors()[0]
         (tmp_path / "wag.json").rmdir()
         (tmp_path / "wag.json").write_text(good["wag.json"])
-        assert wait_for(lambda: errors() == [], 10.0), status(tmp_path)
-        assert wait_for(playing_line, 20.0)
+        assert table.until(lambda: errors() == [], 10.0), status(tmp_path)
+        assert table.until(playing_line, 20.0)
     assert not sum(inst.loop.stats.errors.values())
     replays_alike(session, tmp_path / "replayed.jsonl", least=30, aside=())
 

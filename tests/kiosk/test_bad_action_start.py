@@ -17,8 +17,8 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.running import (Latest, kiosk_built, replay_cli, replays_alike, replays_without,
-                                 running, started_without, ticked_with_edits)
+from tests.kiosk.running import (Latest, Ticked, kiosk_built, replay_cli, replays_alike,
+                                 replays_without, running, started_without, ticked_with_edits)
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -165,43 +165,48 @@ def test_the_replay_of_a_start_without_actions_named_with_semicolons_reads_them(
     replays_alike(session, tmp_path / "replayed.jsonl", least=5, aside=())
 
 
-SEEN_S = 30.0
-"""Seconds a kiosk test waits for a fixed file to be followed and said in the status: a bound,
-not a measure (a look a second, a second more for the file to stay as it is, a status a second:
-about 2 s idle and with eight busy loops on two cores); a machine loaded to 12 stretches it."""
+SEEN_S = 10.0
+"""Seconds of table time a kiosk test waits for a fixed file to be followed and said in the
+status: a bound, not a measure (on simulated time, the action reloader looking at every tick:
+two ticks for the file to stay as it is, a status a second)."""
 
 
 def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(tmp_path):
     """The technician replaces the corrupt template, then the corrupt clip: within seconds,
     without a restart, each character follows the actions they complete (the lone creature
     one, the walker all three), the status's behavior_errors empty out, and the recording
-    replays to the same characters, the actions followed from the same frame."""
+    replays to the same characters, the actions followed from the same frame. On simulated
+    time (in real time it waited 10 s for its looks and gestures)."""
+    from tabletop.kiosk.simulate import SimClock
     cfg_path, good = drawing_config(tmp_path)
     _corrupt(tmp_path)
     session = tmp_path / "session.jsonl"
-    inst, _ = kiosk_built(cfg_path, record_path=session)
+    clock = SimClock()
+    inst, _ = kiosk_built(cfg_path, clock=clock, record_path=session)
     stage = inst.engines[0]
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
-    with running(inst, 180):        # (stopped when the block ends; the waits' sum at most)
-        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3, SEEN_S)
+    with Ticked(inst, clock) as table:
+        assert table.until(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3,
+                           SEEN_S)
         # a copy still bad, otherwise: the entries say the new reason
         (tmp_path / "line.csv").write_text(good["line.csv"] + "0.5,x,0\n")
-        assert wait_for(lambda: sum("line.csv: line 48: " in e and "'x'" in e for e in status(
+        assert table.until(lambda: sum("line.csv: line 48: " in e and "'x'" in e for e in status(
             tmp_path).get("behavior_errors", ())) == 2, SEEN_S), status(tmp_path)
         (tmp_path / "line.csv").write_text(good["line.csv"])
-        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 1, SEEN_S)
+        assert table.until(lambda: len(status(tmp_path).get("behavior_errors", ())) == 1,
+                           SEEN_S)
         (error,) = status(tmp_path)["behavior_errors"]
         assert "'walker', action 'square'" in error and "wag.json" in error
         assert {n: set(t) for n, t in stage.templates.items()} == {
             "walker": {"circle", "line"}, "lone": {"line"}}
         (tmp_path / "wag.json").write_text(good["wag.json"])
-        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], SEEN_S)
+        assert table.until(lambda: status(tmp_path).get("behavior_errors") == [], SEEN_S)
         assert set(stage.templates["walker"]) == {"circle", "line", "square"}
         assert set(stage.puppets["walker"].actions) == {"circle", "line", "square"}
         # the line drawn drives both characters' line action
-        assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
-                                                        if c.action == "line"}, 20.0)
+        assert table.until(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
+                                                          if c.action == "line"}, 20.0)
     assert started_without(session) == {"mop"}
     followed = [f["consumed"]["reload"]["actions"]["mop"] for f in frames(session)
                 if "actions" in f.get("consumed", {}).get("reload", {})]
