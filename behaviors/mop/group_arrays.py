@@ -12,8 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import group_layout, members, shape_lead, threshold
+from behaviors.mop import group_layout, members, shape_lead, take_rule, tempo, threshold, validity
 from behaviors.mop.holding import holding_columns
+from behaviors.mop.take_fit import outwards
 from behaviors.mop.shape_lead import TAKE_SAMPLES
 from behaviors.mop.handover import TEMPO_END_KEEP
 
@@ -200,11 +201,15 @@ class GroupArrays:
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
                    "keep": lambda f: f.still_samples, "reversal_move2": lambda f: f._reversal_move2,
                    "coverage": lambda f: f.coverage,
-                   "take_fit2": lambda f: shape_lead.TAKE_FIT ** 2}
+                   "take_fit2": lambda f: shape_lead.TAKE_FIT ** 2,
+                   "carry_first": lambda f: validity.CARRY_FIRST,
+                   "crawl_samples": lambda f: tempo.CRAWL_SAMPLES,
+                   "crawl_hovers": lambda f: tempo.CRAWL_HOVERS}
         cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])
-        self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
+        sizes = np.tile(outwards(take_rule.TAKE_SIZES), (m, 1))
+        self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units, sizes]))
         rules = {"spread2": lambda f: f.max_spread ** 2, "min_p": lambda f: f.min_probability,
                  "spots": lambda f: f.invariance != "none", "confirm": lambda f: f.confirm,
                  "log_constant": lambda f: f._log_constant, "zdim": lambda f: f._zdim,

@@ -47,7 +47,7 @@ from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.size_sums import estimate_sums
 from behaviors.mop.shape_lead import DRIFT_FROM, DRIFT_HELD_AT_REST, KEPT_COMMIT
 from behaviors.mop.spotting import SHARE_BACK
-from behaviors.mop.validity import (CARRY_FIRST, PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
+from behaviors.mop.validity import (PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
                                     UNWEIGHED_AT_REST)
 from behaviors.kernel_cache import compiled
 
@@ -156,7 +156,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         rest_out[i] = rest
         # a pause of an action that carried its performer forward (validity.unweighed)
         paused = (UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
-                  and drive_peak[i] - drive_from[i] >= CARRY_FIRST
+                  and drive_peak[i] - drive_from[i] >= m[26]   # (validity.CARRY_FIRST)
                   and (rest or (drive_peak[i] - drive_from[i] >= PAUSE_CARRY
                                 and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
         # the input reverses here (PerformanceFrame._reversal_sizes), went on past the last

@@ -17,21 +17,22 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import (halts, handover, overrun, path_kernel, shape_lead, speed_profile,
-                          take_fit, take_rule)
+from behaviors.mop import (group_layout, halts, handover, overrun, path_kernel, shape_lead,
+                          speed_profile, take_fit, take_rule)
 from behaviors.mop import validity
 from behaviors.mop import tempo as tempo_rules   # (its function tempo is this module's)
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
-from behaviors.mop.take_rule import TAKE_FROM_NEAREST, TAKE_RESIZE, TAKE_SIZES_OUTWARDS
+from behaviors.mop.group_layout import MC_ROWS
+from behaviors.mop.take_rule import TAKE_FROM_NEAREST, TAKE_RESIZE
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
 from behaviors.mop.validity import CARRY_FIRST
-from behaviors.mop.tempo import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
+from behaviors.mop.tempo import LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (path_kernel's through
 # overrun's)
-_CALLS_INTO = (halts, handover, overrun, path_kernel, shape_lead, speed_profile, take_fit,
-               take_rule, tempo_rules, validity)
+_CALLS_INTO = (group_layout, halts, handover, overrun, path_kernel, shape_lead, speed_profile,
+               take_fit, take_rule, tempo_rules, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -142,12 +143,13 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
         m = mc[i]   # group_layout.MEMBER_SCALARS: dims, scaled, lo, hi, misfit_decay, path_scale
         if not (leads[i] and acquired[i] != best[i] and m[8] > 0.0 and n > 0):
             continue
+        sizes = m[MC_ROWS + 2 * d:]   # take_rule.TAKE_SIZES from the estimate outwards
         gb = bounds[i] + best[i]
         start, length = ti[gb, 0], ti[gb, 1]
         g = start + min(mean[gb], length - 1.0)
         leads[i] = take_fits_at(taken[i, :n, :int(m[0])], states, ti[gb, 2], start, length, g,
                                 tc[gb, 5:], tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11],
-                                m[14], TAKE_SIZES_OUTWARDS, limit)
+                                m[14], sizes, limit)
         moved = False
         for c in range(d):
             moved = moved or shift[i, c] != 0.0
@@ -159,12 +161,12 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
                     near[r, c] = taken[i, r, c] + shift[i, c]
             leads[i] = take_fits_at(near, states, ti[gb, 2], start, length, g, tc[gb, 5:],
                                     tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11], m[14],
-                                    TAKE_SIZES_OUTWARDS, TAKE_FROM_NEAREST)
+                                    sizes, TAKE_FROM_NEAREST)
         if leads[i] or TAKE_RESIZE <= 0.0:
             continue
         s = size_of_refused(taken[i, :n, :int(m[0])], states, arc, ti[gb, 2], start, length, g,
                             tc[gb, 5:], tc[gb, 5 + 3 * d:], size[gb], max(m[9], least[gb]),
-                            m[11], m[14], TAKE_SIZES_OUTWARDS, TAKE_RESIZE)
+                            m[11], m[14], sizes, TAKE_RESIZE)
         if s > 0.0:   # as TakeRule._fits_take: in place on the estimate's sums
             num[gb] = s * (den[gb] + tc[gb, 2]) - tc[gb, 2]
             size[gb] = s
@@ -281,13 +283,13 @@ def slow_of(i: int, k: int, state: float, x: np.ndarray, past_x: np.ndarray,
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
-                     _F1, numba.float64, _B1, _I2, _I1, _F1, _F2), *_CALLS_INTO)
+                     _F1, numba.float64, _B1, _I2, _I1, _F1, _F2, _F2), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
           at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
           best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
           past_s: np.ndarray, scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
           leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray, samples: np.ndarray,
-          anchor: np.ndarray) -> None:
+          anchor: np.ndarray, mc: np.ndarray) -> None:
     """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
     :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
     (:func:`tempo.slow_take`: followed state, ``mean`` clipped to the template, against the
@@ -297,7 +299,8 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
     :func:`tempo.before_attempt`) does not lead (``leads``), and
     ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`tempo.crawls`;
     kept while the input hovers as :func:`tempo.crawl_run` says, ``drive_k``: the action
-    that last drove);
+    that last drove; ``mc``: the member scalars, :data:`~behaviors.mop.tempo.CRAWL_SAMPLES`
+    and ``CRAWL_HOVERS`` among them, :data:`~behaviors.mop.group_layout.MEMBER_SCALARS`);
     then this sample, the followed states and sizes (``past_s``) are kept in the ring's slot
     ``at``, which moves on."""
     w = TEMPO_SAMPLES
@@ -325,7 +328,7 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
         same = crawl[i, 1] == best[i]
         if slow:
             crawl[i, 0] = crawl[i, 0] + 1 if same else 1
-        elif not (same and hovers and CRAWL_HOVERS and 0 < CRAWL_SAMPLES <= crawl[i, 0]):
+        elif not (same and hovers and mc[i, 28] > 0.0 and 0 < mc[i, 27] <= crawl[i, 0]):
             crawl[i, 0] = 0   # tempo.crawl_run
         crawl[i, 1] = best[i]
         for c in range(x.shape[1]):

@@ -20,7 +20,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import (blocked, gesture_end, halts, handover, member_buffer,
+from behaviors.mop import (blocked, gesture_end, group_layout, halts, handover, member_buffer,
                            member_spotting, member_validity, overrun, path_kernel, shape_lead,
                            speed_profile, spotting, take_fit, take_rule, tempo, validity)
 from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
@@ -32,16 +32,16 @@ from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, mo
                                           spot)
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import REANCHOR_RADII, UNSEEN_END
-from behaviors.mop.tempo import CRAWL_SAMPLES, LEAST_TEMPO
-from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAP_STATES,
-                                    REST_BEHIND, TAKEN_PERFORMED)
+from behaviors.mop.tempo import LEAST_TEMPO
+from behaviors.mop.validity import (BACK_FIRST, FORWARD_FIRST, LEAP_STATES, REST_BEHIND,
+                                    TAKEN_PERFORMED)
 from behaviors.kernel_cache import compiled
 
-# the files whose constants or compiled functions the kernels take in (halts', overrun's,
-# path_kernel's, speed_profile's, take_fit's and take_rule's through member_validity's)
-_CALLS_INTO = (blocked, gesture_end, halts, handover, member_buffer, member_spotting,
-               member_validity, overrun, path_kernel, shape_lead, speed_profile, spotting,
-               take_fit, take_rule, tempo, validity)
+# the files whose constants or compiled functions the kernels take in (group_layout's, halts',
+# overrun's, path_kernel's, speed_profile's, take_fit's and take_rule's through member_validity's)
+_CALLS_INTO = (blocked, gesture_end, group_layout, halts, handover, member_buffer,
+               member_spotting, member_validity, overrun, path_kernel, shape_lead, speed_profile,
+               spotting, take_fit, take_rule, tempo, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -166,7 +166,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
                           m_floats[8], onset, m_flags[2], crawl, ints[10], m_floats[4],
-                          vectors[1])
+                          vectors[1], mc)
     member_validity.unbegun(m_flags[11], present, vectors[0], vectors[1], vectors[5], m_flags[2])
     # ... nor in an attempt begun under way (under_way.underway)
     for i in range(present.size):
@@ -228,7 +228,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
               and spread2 <= m[0] and (pv >= m[1] or committed[i]) and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does
         # and its start is no longer shared with another the input still fits (spotting)
-        # ... and no action drives once it crawled CRAWL_SAMPLES samples in a row (crawls)
+        # ... and no action drives once it crawled CRAWL_SAMPLES samples in a row (crawls;
+        # mc[i, 27]: tempo.CRAWL_SAMPLES, group_layout.MEMBER_SCALARS)
         # ... nor once the input drifted further off it DRIFT_SAMPLES in a row (_drifts)
         for k in range(bounds[i], a1):   # (barred since it began: blocked)
             if new[k]:
@@ -236,7 +237,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         sh = spots and sh_off[i] >= 0 and shares(bounds[i], a1, gb, int(g) - start, shared,
                                                  sh_off[i], refused, misshaped, progress, highest)
         ok = ok and not (spots and once[gb]) and not (
-            spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and not (
+            spots and 0 < mc[i, 27] <= crawl[i, 0]) and not (
             spots and 0 < DRIFT_SAMPLES <= drift_run[gb]) and (
             not spots or acquired[i] == bi or (leads[i] and turn_ok[i] and not sh))
         if spots:   # (blocked: taken at a crawl at a small size, not driving)
@@ -262,9 +263,10 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             # ... nor once its performer finished it short of its end (handover.finished)
             ok = ok and not finished_short(drive_peak[i], progress[gb], crawl[i, 0] > 0)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
-            # (spared once performed TAKEN_PERFORMED since its attempt began, resting too)
+            # (spared once performed TAKEN_PERFORMED since its attempt began, resting too;
+            # mc[i, 26]: validity.CARRY_FIRST)
             ok = ok and not (rests and drive_moved[i]
-                             and drive_peak[i] - (drive_from[i] + drive_leapt[i]) < CARRY_FIRST
+                             and drive_peak[i] - (drive_from[i] + drive_leapt[i]) < mc[i, 26]
                              and not (drive_from[i] - attempt_from[gb] >= TAKEN_PERFORMED
                                       and abs(step) < LEAST_TEMPO) and not seated[gb])
             # ... nor holds them resting behind where it began (validity.rests_behind)

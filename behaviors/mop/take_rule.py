@@ -109,8 +109,8 @@ TAKE_SAMPLES = 24
 TAKE_SIZES = (0.7, 0.8, 0.9, 1.0, 1.12)
 
 
-#: :data:`TAKE_SIZES` from the estimate outwards as the group's compiled pass reads them
-#: (:func:`behaviors.mop.member_validity.takes`; the follower reads TAKE_SIZES at each take).
+#: :data:`TAKE_SIZES` from the estimate outwards (the follower reads TAKE_SIZES at each take,
+#: the group where it is built: the tail of its member scalars, ``group_layout.MEMBER_SCALARS``).
 TAKE_SIZES_OUTWARDS = outwards(TAKE_SIZES)
 #: A take refused at its size estimate (:meth:`TakeRule._fits_take`) sizes its template at the
 #: smaller of :data:`TAKE_SIZES` times the estimate at which the same samples lie nearest its path

@@ -109,11 +109,12 @@ def solo(follower) -> "FollowerGroup":
     runs (tabletop/plugins/mop.py), equal to the follower alone at every tick
     (tests/mop/test_group.py) at about a sixth of its CPU a step (0.24 against 1.46 ms, the six
     gestures loaded). Not for a run whose rule is switched off by patching a constant the
-    group's kernels compile in (validity's, tempo's, take_rule.TAKE_SIZES, a patched Validity
-    method): those keep to the follower. Constants read where the follower or the group is
-    built (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER,
-    shape_lead.TAKE_FIT) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD and bends' (read at
-    each step) reach both."""
+    group's kernels compile in (most of validity's and tempo's, a patched Validity method):
+    those keep to the follower. Constants read where the follower or the group is built
+    (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER, shape_lead.TAKE_FIT,
+    take_rule.TAKE_SIZES, validity.CARRY_FIRST, tempo.CRAWL_SAMPLES and CRAWL_HOVERS: patch
+    them before the group is built) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD and bends'
+    (read at each step) reach both."""
     from behaviors.mop.group import FollowerGroup
     return FollowerGroup([follower])
 

@@ -245,12 +245,13 @@ def _tail_and_paused(gestures) -> tuple[int, int, float]:
     """Valid ticks of the diagonal, wander and triangle (0.7, 1.4x; the circle alone and the six
     gestures loaded) while their last half second rests, all their valid ticks, and the six
     gestures' share after 30% valid and within 0.1 of the truth when paused 0.6 s part way
-    (0.7, 1.4x, two seeds). Shared starts off (``share_radius`` 0): the rule's own effect (with
-    them on the wrong ticks it removes are fewer)."""
+    (0.7, 1.4x, two seeds), stepped by a group of one (:func:`~tests.mop.helpers.solo`). Shared
+    starts off (``share_radius`` 0): the rule's own effect (with them on the wrong ticks it
+    removes are fewer)."""
     tail = total = 0
     for loaded in ({"circle": gestures["circle"]}, gestures):
         rng = np.random.default_rng(5)
-        f = puck_follower(loaded, share_radius=0.0)
+        f = solo(puck_follower(loaded, share_radius=0.0))
         paths = unrelated_motions(rng, loaded)
         for name in ("diagonal", "wander", "triangle"):
             for scale in (0.7, 1.4):
@@ -258,7 +259,7 @@ def _tail_and_paused(gestures) -> tuple[int, int, float]:
                 valid = [s.valid for s in run(f, x)]
                 tail += sum(valid[-15:])
                 total += sum(valid)
-    f = puck_follower(gestures, share_radius=0.0)
+    f = solo(puck_follower(gestures, share_radius=0.0))
     on_track = []
     for seed in (5, 6):
         rng = np.random.default_rng(seed)
@@ -284,7 +285,7 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
     from behaviors.mop import validity
 
     monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
-    now = _tail_and_paused(gestures)
+    now = _tail_and_paused(gestures)   # (both read where the group is built)
     monkeypatch.setattr(validity, "CARRY_FIRST", -1.0)
     plain = _tail_and_paused(gestures)
     assert now[0] <= plain[0] - 5 and now[1] <= plain[1] - 5, (now, plain)

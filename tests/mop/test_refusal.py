@@ -149,11 +149,12 @@ def test_a_stroke_that_starts_an_action_is_read_as_its_performance(gestures):
 
 
 def _wander_valid(gestures) -> int:
-    """Valid ticks of an aimless wander at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds."""
+    """Valid ticks of an aimless wander at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds,
+    stepped by a group of one (:func:`~tests.mop.helpers.solo`)."""
     total = 0
     for seed in range(8):
         rng = np.random.default_rng(seed)
-        f = puck_follower(gestures)
+        f = solo(puck_follower(gestures))
         path = unrelated_motions(rng, gestures)["wander"]
         total += sum(sum(s.valid for s in run(f, performance(rng, path, scale)[0]))
                      for scale in (0.7, 1.0, 1.4))
@@ -170,8 +171,8 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
     # HALT_ON hiding 3 of the reset run's ticks (94 before it). Without the rule (the crawl
     # reset while hovering) both runs are the same: 20 fewer is its mark
     monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
-    now = _wander_valid(gestures)
-    monkeypatch.setattr(tempo, "CRAWL_HOVERS", False)   # the followers read it each step
+    now = _wander_valid(gestures)   # (both read where the group is built)
+    monkeypatch.setattr(tempo, "CRAWL_HOVERS", False)
     reset = _wander_valid(gestures)
     assert now <= reset - 20, (now, reset)
 
@@ -312,8 +313,8 @@ def test_a_new_action_is_taken_only_at_a_size_near_the_one_it_is_followed_at(mon
     # ticks of the eight performances with the sizes up to 1.12, 47 with them up to 1.4
     templates, streams = _mirrored_waves()
     now = sum(s.valid for x in streams for s in run(solo(puck_follower(templates)), x))
-    f = puck_follower(templates)   # (the sizes patched reach the follower alone)
     monkeypatch.setattr(take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
+    f = solo(puck_follower(templates))   # (the sizes read where the group is built)
     wide = sum(s.valid for x in streams for s in run(f, x))
     assert now <= 6 and wide >= 30, (now, wide)
 

@@ -40,16 +40,15 @@ def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
     assert now["wander"] <= plain["wander"] - 0.02, (now, plain)
 
 
-def _stretch_shares(gestures, grouped: bool = True) -> tuple[float, float, float]:
+def _stretch_shares(gestures) -> tuple[float, float, float]:
     """The triangle's and the diagonal's valid share (0.7, 1.0, 1.4x) and the six gestures'
-    valid share after 30% (0.7, 1.4x), the six gestures loaded, over three seeds; shared starts
-    off (``share_radius`` 0): the rules' own effect. ``grouped``: stepped by a group of one
-    (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
+    valid share after 30% (0.7, 1.4x), the six gestures loaded, over three seeds, stepped by a
+    group of one (:func:`~tests.mop.helpers.solo`); shared starts off (``share_radius`` 0):
+    the rules' own effect."""
     tri, diag, true = [], [], []
     for seed in (3, 11, 13):
         rng = np.random.default_rng(seed)
-        f = puck_follower(gestures, share_radius=0.0)
-        f = solo(f) if grouped else f
+        f = solo(puck_follower(gestures, share_radius=0.0))
         paths = unrelated_motions(rng, gestures)
         for out, name in ((diag, "diagonal"), (tri, "triangle")):
             out += [np.mean([s.valid for s in run(f, performance(rng, paths[name], scale)[0])])
@@ -71,8 +70,8 @@ def test_an_action_followed_at_a_crawl_stops_driving(gestures, monkeypatch):
     from behaviors.mop import tempo
 
     now = _stretch_shares(gestures)
-    monkeypatch.setattr(tempo, "CRAWL_SAMPLES", 0)   # read by the follower alone
-    plain = _stretch_shares(gestures, grouped=False)
+    monkeypatch.setattr(tempo, "CRAWL_SAMPLES", 0)   # (read where the group is built)
+    plain = _stretch_shares(gestures)
     assert now[0] <= plain[0] - 0.01 and now[1] <= plain[1], (now, plain)
     assert now[2] >= plain[2] - 0.005, (now, plain)
 
