@@ -76,3 +76,29 @@ def test_the_input_halts_under_a_wider_share_where_the_template_goes_on_ahead_to
     assert _halts_on(slow_from=19, recent_speed=0.6)
     assert _halts_on(slow_from=16, recent_speed=0.4)
     assert not _halts_on(slow_from=13, recent_speed=0.4)
+
+
+def _halts_past(dip_at: int, followed: float) -> bool:
+    """halts.halts on the straight template of :func:`_halts_on` going on at 1 a state but for
+    one step (``dip_at`` -> ``dip_at`` + 1) at 0.69 of it, followed at state ``followed`` (0.28
+    of the action); the input's speed 0.4 of its speed before."""
+    from behaviors.mop import halts
+    steps = np.where(np.arange(49) == dip_at, 0.69, 1.0)
+    means = np.zeros((50, 2))
+    means[1:, 0] = np.cumsum(steps)
+    one = np.ones(2)
+    x_earlier = np.array([means[int(followed), 0] - 6.0, 0.0])
+    x_recent = x_earlier + np.array([4.0, 0.0])
+    x = x_recent + np.array([0.8, 0.0])
+    return bool(halts.halts(means, 0, 50, 0, one, one, x, x_recent, x_earlier, followed, 0.28,
+                            1.0, 1.0))
+
+
+def test_the_template_goes_on_from_the_followed_state_on():
+    # the punch ankle's template slows to 0.69 of its speed over one step (0.27-0.28 of it),
+    # then goes on at 0.76-1.6: taken on a getup wrist and followed past that step (held-out
+    # 112, at 18.4-18.7 of its 64 states) it drove 3 ticks while the input halted; a true
+    # punch followed on that step (held-out 107, sized, 17.1-17.4) is not hidden
+    assert _halts_past(dip_at=17, followed=18.4)
+    assert not _halts_past(dip_at=17, followed=17.1)
+    assert not _halts_past(dip_at=18, followed=17.1)
