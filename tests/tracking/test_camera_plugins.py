@@ -1,6 +1,7 @@
 """The camera and synthetic_camera sources as config.yaml builds them: frames on disk or rendered,
 markers found by the tracking section's detector, pucks reported in table metres."""
 
+import itertools
 import math
 import threading
 import time
@@ -252,8 +253,27 @@ def test_tracker_predictions_guide_the_detector_to_the_right_pixels(tmp_path):
             enough.set()
 
     src.notify = notify
+    open_reader = src.opener
+
+    def opener(settings):
+        """Frame k's shutter is at k / 30 s on the reader's own clock, whenever the camera
+        thread gets to render it: a prediction is always one 1/30 s frame ahead. (On the
+        monotonic clock a starved camera thread spaced its frames further apart, each
+        prediction reaching further ahead: at load 13 median 2.19 px, p95 12.16 px; a 0.15 s
+        stall on 10% of the frames here gave 15 px on each frame after one.)"""
+        reader = open_reader(settings)
+        render, frames, now = reader.render, itertools.count(), [0.0]
+        reader.t0, reader.clock = 0.0, lambda: now[0]
+
+        def render_next(*args):
+            now[0] = next(frames) / 30.0
+            return render(*args)
+        reader.render = render_next
+        return reader
+
+    src.opener = opener
     src.open()
-    try:    # about 2 s of frames: 60 frames of 3 pucks predicted
+    try:    # 60 frames of 3 pucks predicted (2 s of script)
         enough.wait(60.0)
     finally:
         src.close()
