@@ -38,29 +38,6 @@ def kiosk_built(cfg_path: Path, **runner: Any) -> tuple[Any, str | None]:
     return built._build(built.cfg), refused
 
 
-def _looks_every_tick(inst: Any) -> None:
-    """``inst``'s action reloader looks at its files at every tick (it looks once a second of
-    the wall clock, which a simulated run leaves behind)."""
-    from tabletop.kiosk.actions import ActionReloader
-    (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
-    reloader.every_s = 0.0
-
-
-def ticked_with_edits(inst: Any, clock: Any, ticks: int, edits: dict[int, tuple[Path, str]]
-                      ) -> None:
-    """Tick ``inst``'s loop ``ticks`` times on the simulated ``clock`` (1/30 s a tick), its
-    action reloader looking at every tick, writing ``edits[k]`` (a file and its new text) after
-    tick k; the loop is closed after."""
-    _looks_every_tick(inst)
-    inst.loop.inputs.open()
-    for k in range(ticks):
-        inst.loop.tick()
-        clock.advance(1 / 30)
-        if k in edits:
-            edits[k][0].write_text(edits[k][1])
-    inst.loop.close()
-
-
 class Ticked:
     """``inst``'s loop stepped on the simulated ``clock`` (1/30 s a tick) while a test watches
     it, its action reloader looking at every tick: :func:`running` without waiting for the
@@ -71,7 +48,9 @@ class Ticked:
 
     def __init__(self, inst: Any, clock: Any) -> None:
         self.inst, self.clock = inst, clock
-        _looks_every_tick(inst)
+        from tabletop.kiosk.actions import ActionReloader
+        (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
+        reloader.every_s = 0.0  # (it looks once a second of the wall clock, left behind here)
 
     def __enter__(self) -> "Ticked":
         self.inst.loop.inputs.open()
@@ -80,15 +59,30 @@ class Ticked:
     def __exit__(self, *exc: Any) -> None:
         self.inst.loop.close()
 
+    def tick(self) -> None:
+        """One tick of the loop, then the clock on by :attr:`DT`."""
+        self.inst.loop.tick()
+        self.clock.advance(self.DT)
+
     def until(self, done: Any, seconds: float) -> bool:
         """Tick until ``done()`` holds, looked at after every tick (True), or ``seconds`` of
         table time pass (False)."""
         for _ in range(int(round(seconds / self.DT))):
-            self.inst.loop.tick()
-            self.clock.advance(self.DT)
+            self.tick()
             if done():
                 return True
         return bool(done())
+
+
+def ticked_with_edits(inst: Any, clock: Any, ticks: int, edits: dict[int, tuple[Path, str]]
+                      ) -> None:
+    """Tick ``inst``'s loop ``ticks`` times on the simulated ``clock`` (:class:`Ticked`),
+    writing ``edits[k]`` (a file and its new text) after tick k; the loop is closed after."""
+    with Ticked(inst, clock) as table:
+        for k in range(ticks):
+            table.tick()
+            if k in edits:
+                edits[k][0].write_text(edits[k][1])
 
 
 @contextmanager
