@@ -151,16 +151,6 @@ def compiled(signature: Any = None, *calls_into: Source,
     return build
 
 
-def lazy(signature: Any, **options: Any) -> Callable[[Callable], Any]:
-    """``numba.njit(signature, **options)`` (numba's own cache), compiled for ``signature`` on
-    its first need as :func:`compiled` kernels are, not when it is declared."""
-    def build(fn: Callable) -> Any:
-        dispatcher = numba.njit(**options)(fn)
-        _defer(dispatcher, signature)
-        return dispatcher
-    return build
-
-
 #: The kernels declared with a signature and not loaded yet (:func:`load`).
 PENDING: dict[Any, Any] = {}
 
