@@ -286,6 +286,11 @@ def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_pa
                            "view": {"headless": True, "size": [1280, 720], "snapshot_every_s": 0.05,
                                     "snapshot_folder": "snaps"}}, "test", tmp_path)
     view = ProjectorView((1.2, 0.8), cfg["view"], stats=LoopStats(), headless=True)
+    # due on a clock of the frames' own (1/16 s a frame, exact in binary): a snapshot every
+    # 0.375 s, 5 in the 30 frames whatever the load (on the wall clock, 0.01 s slept a frame,
+    # 6-26 were written, the test's own checks of each 0.1-0.2 CPU s)
+    clock = Clock()
+    view.snapshots = Snapshots(tmp_path / "snaps", every_s=0.375, clock=clock)
     _written_at_once(view)
     saved = []   # (the view as shown, the snapshot) at each snapshot
     save = view.snapshots.save
@@ -299,11 +304,11 @@ def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_pa
     puck = Puck(1, 0.25, 0.7, 0.0, state="seen")
     try:
         for k in range(30):
+            clock.now += 0.0625
             view.consume(Frame(seq=k, t=k * 0.05, pucks=(puck,), characters=(lover,)))
-            time.sleep(0.01)
     finally:
         view.close()
-    assert len(saved) >= 3 and len(list((tmp_path / "snaps").glob("snapshot-*.png"))) == len(saved)
+    assert len(saved) == 5 and len(list((tmp_path / "snaps").glob("snapshot-*.png"))) == len(saved)
     bare = pygame.surfarray.array3d(view.renderer._background(pygame.Surface((1280, 720))))
     top_left = np.zeros((1280, 720), bool)
     top_left[:640, :360] = True
