@@ -5,7 +5,14 @@ Each sequence (:func:`bench.motions.back_to_back`) is four different gestures at
 time-warped, each starting where the last ended, with no rest between them. Figures: the
 progress at which each gesture is recognised (``valid`` with ``best`` the gesture; 1 when
 never), the share recognised within 20%, the longest run of ticks with a wrong action valid
-(:func:`wrong_valid`), and among the six example gestures per gesture its recognition median and
+(:func:`wrong_valid`), the share of those ticks no ideal observer could yet tell
+(``..._wrong_valid_indistinguishable_share``, :func:`bench.spotting_reach.indistinguishable`:
+the gesture performed has not left its own start by 2 mm, or its path so far is within 2 mm of
+a start of the driving action) and the longest run of the others
+(``..._wrong_valid_avoidable_longest_ticks_max``: what a follower could avoid, the issue's
+"no wrong action valid for more than 2 ticks"; the longest run of every wrong tick is printed
+beside it, not a target), among the six gestures and among all twenty; among the six example
+gestures per gesture its recognition median and
 share within 20%; the median recognition of the gestures begun from rest (the first of each
 sequence) and of those begun where another ended (``..._from_rest_median``,
 ``..._after_a_gesture_median``): where the next gesture begins (:mod:`behaviors.mop.spotting`)
@@ -137,13 +144,13 @@ def sequences(factory: Callable, templates: dict[str, np.ndarray], rng: np.rando
     names = list(templates)
     delays, wrong_runs, ended_runs, other_runs, named = [], [], [], [], []
     firsts: list[bool] = []   # the gesture began from rest (first of its sequence)
-    # among a few gestures: which wrong ticks an ideal observer could already tell
-    # (bench/spotting_reach.py: the gesture's path so far is no start of the driving action's)
+    # which wrong ticks an ideal observer could already tell (bench/spotting_reach.py: the
+    # gesture's path so far is no start of the driving action's), with any count of templates
     observer, reach = None, {}
-    if len(names) <= 6 and f is not None:
+    if f is not None:
         from bench.spotting_reach import indistinguishable as observer
-        reach = observer_reach(templates)
-    memo: dict = {}
+        reach = observer_reach(templates) if len(names) <= 6 else {}
+    memo = _SAME.setdefault(tuple(templates), {})
     whole = full_reach(templates) if f is not None else {}
     avoidable, wrong_ticks, same_ticks = [], 0, 0
     for _ in range(count):
@@ -221,6 +228,9 @@ def sequences(factory: Callable, templates: dict[str, np.ndarray], rng: np.rando
                if observer is not None else {})}
 
 
+#: Per template set, the ideal observer's answers (:func:`bench.spotting_reach.indistinguishable`
+#: by gesture, progress to 0.01 and driving action), kept over every sequence and seed drawn.
+_SAME: dict[tuple, dict] = {}
 _REACH: dict[tuple, dict[str, float]] = {}
 
 
