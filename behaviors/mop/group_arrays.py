@@ -12,7 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import group_layout, members, shape_lead, take_rule, tempo, threshold, validity
+from behaviors.mop import (coverage, group_layout, members, shape_lead, take_rule, tempo,
+                           threshold, validity)
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.take_fit import outwards
 from behaviors.mop.shape_lead import TAKE_SAMPLES
@@ -204,7 +205,12 @@ class GroupArrays:
                    "take_fit2": lambda f: shape_lead.TAKE_FIT ** 2,
                    "carry_first": lambda f: validity.CARRY_FIRST,
                    "crawl_samples": lambda f: tempo.CRAWL_SAMPLES,
-                   "crawl_hovers": lambda f: tempo.CRAWL_HOVERS}
+                   "crawl_hovers": lambda f: tempo.CRAWL_HOVERS,
+                   "unjudged_at_rest": lambda f: validity.UNJUDGED_AT_REST,
+                   "unweighed_at_rest": lambda f: validity.UNWEIGHED_AT_REST,
+                   "rest_behind": lambda f: validity.REST_BEHIND,
+                   "taken_performed": lambda f: validity.TAKEN_PERFORMED,
+                   "early_fit2": lambda f: coverage.EARLY_FIT ** 2}
         cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])

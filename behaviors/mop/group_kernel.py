@@ -28,7 +28,7 @@ from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_l
                            size_probe, size_sums, spotting, tempo, threshold, threshold_kernel,
                            validity)
 from behaviors.mop.compiled import CONTRACT
-from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
+from behaviors.mop.coverage import RUN_AHEAD
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
 from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, top_three
@@ -47,8 +47,7 @@ from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.size_sums import estimate_sums
 from behaviors.mop.shape_lead import DRIFT_FROM, DRIFT_HELD_AT_REST, KEPT_COMMIT
 from behaviors.mop.spotting import SHARE_BACK
-from behaviors.mop.validity import (PAUSE_CARRY, PAUSE_SAMPLES, UNJUDGED_AT_REST,
-                                    UNWEIGHED_AT_REST)
+from behaviors.mop.validity import PAUSE_CARRY, PAUSE_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
@@ -154,8 +153,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             hrad[c] = m[ra0 + c]
         rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
         rest_out[i] = rest
-        # a pause of an action that carried its performer forward (validity.unweighed)
-        paused = (UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
+        # a pause of an action that carried its performer forward (validity.unweighed;
+        # m[30]: validity.UNWEIGHED_AT_REST, m[29]: UNJUDGED_AT_REST below)
+        unjudged = rest and m[29] > 0.0
+        paused = (m[30] > 0.0 and acquired[i] >= 0 and drive_moved[i]
                   and drive_peak[i] - drive_from[i] >= m[26]   # (validity.CARRY_FIRST)
                   and (rest or (drive_peak[i] - drive_from[i] >= PAUSE_CARRY
                                 and resting_with(buf, nbuf, i, x, hrad, PAUSE_SAMPLES))))
@@ -238,7 +239,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             raw -= log_size
             thr_lj[k] = m[20] + (-t[0] - log_size)   # the threshold model's log-density terms
             ev[k] = ev[k] if paused else ev[k] * decay + raw
-            if not (rest and UNJUDGED_AT_REST) or rw[k] <= 0.0:   # validity.UNJUDGED_AT_REST
+            if not unjudged or rw[k] <= 0.0:   # validity.unjudged
                 rec[k] = rec[k] * null_decay + step_ll[k]
                 rw[k] = rw[k] * null_decay + 1.0
             # judged afresh once the size moved (PerformanceFrame._rejudge)
@@ -313,7 +314,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 vv += vc * vc
             if scaled:   # a size moved at once (misfit_size)
                 misfit_size.reread(misfit, k, k + 1, size)
-            if not (rest and UNJUDGED_AT_REST) or misfit_w[k] <= 0.0:
+            if not unjudged or misfit_w[k] <= 0.0:
                 misfit[k, 0] = misfit[k, 0] * misfit_decay + uu
                 misfit[k, 1] = misfit[k, 1] * misfit_decay + uv
                 misfit[k, 2] = misfit[k, 2] * misfit_decay + vv
@@ -335,8 +336,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if at > RUN_AHEAD * reached[k]:
                 covered[k] = False
             # ... and, covered short of ``coverage`` of its path, not while off it by > EARLY_FIT
+            # (m[33]: coverage.EARLY_FIT squared)
             full = m[24] * states[last + off, arc]
-            if t[3] < full and at < full and m2 > EARLY_FIT * EARLY_FIT:
+            if t[3] < full and at < full and m2 > m[33]:
                 covered[k] = False
             # shape sums (ShapeLead._leads) and displacement (early feedback)
             acc = 0.0

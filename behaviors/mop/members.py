@@ -33,8 +33,7 @@ from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, mo
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import REANCHOR_RADII, UNSEEN_END
 from behaviors.mop.tempo import LEAST_TEMPO
-from behaviors.mop.validity import (BACK_FIRST, FORWARD_FIRST, LEAP_STATES, REST_BEHIND,
-                                    TAKEN_PERFORMED)
+from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST, LEAP_STATES
 from behaviors.kernel_cache import compiled
 
 # the files whose constants or compiled functions the kernels take in (group_layout's, halts',
@@ -264,13 +263,14 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             ok = ok and not finished_short(drive_peak[i], progress[gb], crawl[i, 0] > 0)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             # (spared once performed TAKEN_PERFORMED since its attempt began, resting too;
-            # mc[i, 26]: validity.CARRY_FIRST)
+            # mc[i, 26]: validity.CARRY_FIRST, mc[i, 32]: TAKEN_PERFORMED)
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - (drive_from[i] + drive_leapt[i]) < mc[i, 26]
-                             and not (drive_from[i] - attempt_from[gb] >= TAKEN_PERFORMED
+                             and not (drive_from[i] - attempt_from[gb] >= mc[i, 32]
                                       and abs(step) < LEAST_TEMPO) and not seated[gb])
-            # ... nor holds them resting behind where it began (validity.rests_behind)
-            ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
+            # ... nor holds them resting behind where it began (validity.rests_behind;
+            # mc[i, 31]: validity.REST_BEHIND)
+            ok = ok and not (rests and 0 <= mc[i, 31] < drive_from[i] - progress[gb])
         # a new best confirms on samples of its own (recognition: the run does not carry over)
         run[i] = run[i] + 1 if ok and run_k[i] == bi else (1 if ok else 0)
         run_k[i] = bi

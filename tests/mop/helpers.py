@@ -104,6 +104,16 @@ def group_beside_alone(make: Callable, streams: list[np.ndarray]) -> list[int]:
     return valid
 
 
+def group_valid(make: Callable, streams: list[np.ndarray]) -> int:
+    """Valid states of ``streams`` (as long as the shortest) stepped by one ``FollowerGroup`` of
+    ``make()`` followers, one member each: each member's states are its follower's alone
+    (:func:`group_beside_alone`)."""
+    from behaviors.mop.group import FollowerGroup
+    group = FollowerGroup([make() for _ in streams])
+    return sum(s.valid for t in range(min(len(s) for s in streams))
+               for s in group.step([s[t] for s in streams]))
+
+
 def solo(follower) -> "FollowerGroup":
     """``follower`` as the one member of a ``FollowerGroup``: the compiled form the installation
     runs (tabletop/plugins/mop.py), equal to the follower alone at every tick
@@ -111,8 +121,9 @@ def solo(follower) -> "FollowerGroup":
     gestures loaded). Not for a run whose rule is switched off by patching a constant the
     group's kernels compile in (most of validity's and tempo's, a patched Validity method):
     those keep to the follower. Constants read where the follower or the group is built
-    (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER, shape_lead.TAKE_FIT,
-    take_rule.TAKE_SIZES, validity.CARRY_FIRST, tempo.CRAWL_SAMPLES and CRAWL_HOVERS: patch
+    (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER, EARLY_FIT,
+    shape_lead.TAKE_FIT, take_rule.TAKE_SIZES, validity.CARRY_FIRST, UNJUDGED_AT_REST,
+    UNWEIGHED_AT_REST, REST_BEHIND, TAKEN_PERFORMED, tempo.CRAWL_SAMPLES and CRAWL_HOVERS: patch
     them before the group is built) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD and bends'
     (read at each step) reach both."""
     from behaviors.mop.group import FollowerGroup

@@ -107,7 +107,7 @@ def test_coverage_is_lowered_only_where_the_template_set_tells_a_start_apart():
 def _wander_share(templates: dict) -> float:
     """The share of ticks valid on ``bench/follow_quality.py``'s wander (drawn as
     ``tests/mop/test_quality.py``'s unrelated motions are, seed 11) at 0.7, 1 and 1.4x."""
-    rng, f, shares = np.random.default_rng(11), puck_follower(templates), []
+    rng, f, shares = np.random.default_rng(11), solo(puck_follower(templates)), []
     for name, path in unrelated_motions(rng, templates).items():
         for scale in (0.7, 1.0, 1.4):
             x, _ = performance(rng, path, scale)
@@ -123,7 +123,7 @@ def test_a_start_covered_sooner_counts_only_while_the_input_keeps_to_its_path(mo
     # the rest on a stroke its template does not make either (bends.bent_rest takes a share)
     six = gesture_templates()
     assert _wander_share(six) <= 0.06
-    monkeypatch.setattr(coverage, "EARLY_FIT", np.inf)   # read at each step
+    monkeypatch.setattr(coverage, "EARLY_FIT", np.inf)   # read where the group is built
     assert _wander_share(six) >= 0.08
     monkeypatch.setattr(bends, "REST_BENT", np.inf)
     monkeypatch.setattr(bends, "REST_TURNED", np.inf)

@@ -2,12 +2,14 @@
 (:data:`behaviors.mop.group_layout.MEMBER_SCALARS`): built with one changed, it follows that
 value at every tick as its followers alone do, which read it at each step."""
 
+import math
+
 import numpy as np
 import pytest
 
 from bench.follow_quality import puck_follower
-from bench.motions import gesture_templates, performance, unrelated_motions
-from behaviors.mop import take_rule, tempo, validity
+from bench.motions import gesture_templates, paused, performance, unrelated_motions
+from behaviors.mop import coverage, take_rule, tempo, validity
 from behaviors.mop.group import FollowerGroup
 from tests.mop.helpers import group_beside_alone
 
@@ -24,19 +26,50 @@ def _wander(seed: int, scale: float) -> np.ndarray:
     raise KeyError(scale)
 
 
-# each constant changed as a test switches its rule off, and a wander it changes: measured
-# valid ticks with the group of one (rule on / changed) seed 1 0.7x 7 / 39 (CARRY_FIRST), seed
-# 4 1.4x 13 / 19 (CRAWL_SAMPLES, CRAWL_HOVERS), seed 6 1.4x 1 / 10 (TAKE_SIZES)
+def _paused(seed: int, name: str) -> np.ndarray:
+    """``name`` of the six gestures paused 1.5 s part way as ``tests/mop/test_pauses.py`` draws
+    it with ``seed`` (the draws before it made and dropped)."""
+    rng = np.random.default_rng(seed)
+    for key, tpl in gesture_templates().items():
+        x = paused(rng, tpl, float(rng.uniform(0.8, 1.2)), 1.5, (0.3, 0.7))[0]
+        if key == name:
+            return x
+    raise KeyError(name)
+
+
+def _draw(seed: int, scale) -> np.ndarray:
+    """The wander at ``scale`` (a number), or the gesture ``scale`` paused (:func:`_paused`) or
+    performed there and back (``"back " + name``: ``tests/mop/test_quality.py``'s draw)."""
+    from tests.mop.test_quality import _there_and_back
+    if isinstance(scale, str) and scale.startswith("back "):
+        return _there_and_back(gesture_templates(), scale[5:], seed)
+    return _paused(seed, scale) if isinstance(scale, str) else _wander(seed, scale)
+
+
+# each constant changed as a test switches its rule off, and a draw it changes: measured valid
+# ticks with the group of one (rule on / changed) seed 1 0.7x 7 / 39 (CARRY_FIRST), seed 4 1.4x
+# 13 / 19 (CRAWL_SAMPLES, CRAWL_HOVERS), seed 6 1.4x 1 / 10 (TAKE_SIZES), seed 5 1x 0 / 21
+# (UNJUDGED_AT_REST), seed 4 1.4x 13 / 2 (TAKEN_PERFORMED), seed 2 1x 6 / 22 (EARLY_FIT); the
+# zigzag paused, seed 0 104 / 75 (UNWEIGHED_AT_REST); the wave there and back, seed 1, with the
+# last samples' fit (take_rule.TAKE_MISFIT2, read at each step) lifted in both: 61 / 88
+# (REST_BEHIND)
 @pytest.mark.parametrize("module, name, value, seed, scale", [
     (validity, "CARRY_FIRST", -1.0, 1, 0.7),
     (tempo, "CRAWL_SAMPLES", 0, 4, 1.4),
     (tempo, "CRAWL_HOVERS", False, 4, 1.4),
     (take_rule, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4), 6, 1.4),
+    (validity, "UNJUDGED_AT_REST", False, 5, 1.0),
+    (validity, "UNWEIGHED_AT_REST", False, 0, "zigzag"),
+    (validity, "REST_BEHIND", -1.0, 1, "back wave"),
+    (validity, "TAKEN_PERFORMED", math.inf, 4, 1.4),
+    (coverage, "EARLY_FIT", math.inf, 2, 1.0),
 ])
 def test_a_group_built_with_a_rule_constant_changed_follows_it_as_its_followers_alone(
         monkeypatch, module, name, value, seed, scale):
     gestures = gesture_templates()
-    x = _wander(seed, scale)
+    x = _draw(seed, scale)
+    if name == "REST_BEHIND":
+        monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     group = FollowerGroup([puck_follower(gestures)])
     on = sum(s.valid for s in (group.step([v])[0] for v in x))
     monkeypatch.setattr(module, name, value)

@@ -11,7 +11,7 @@ from bench.follow_pauses import driven_over
 from bench.follow_quality import puck_follower
 from bench.motions import paused
 from behaviors.mop import validity
-from tests.mop.helpers import held_out_group_valid, held_out_valid, run, solo
+from tests.mop.helpers import group_valid, held_out_group_valid, held_out_valid, run, solo
 
 
 def _pauses(gestures: dict[str, np.ndarray], grouped: bool = True) -> list[tuple[float, float]]:
@@ -44,8 +44,8 @@ def test_an_action_paused_part_way_drives_through_the_pause(gestures):
 
 def test_without_the_pause_rule_paused_actions_stop_driving(gestures, monkeypatch):
     # the same pauses with the evidence weighed at rest (the rule off): the figures above fail
-    monkeypatch.setattr(validity, "UNWEIGHED_AT_REST", False)   # read by the follower alone
-    shares = _pauses(gestures, grouped=False)
+    monkeypatch.setattr(validity, "UNWEIGHED_AT_REST", False)   # read where the group is built
+    shares = _pauses(gestures)
     assert sum(d < 0.95 for d, _ in shares) >= 3, shares
 
 
@@ -63,8 +63,8 @@ def _paused_after_take(gestures: dict[str, np.ndarray]) -> list[np.ndarray]:
 
 
 def _driven_in_pauses(gestures: dict[str, np.ndarray]) -> int:
-    """The samples of those pauses on which the true action drove."""
-    f = puck_follower(gestures)
+    """The samples of those pauses on which the true action drove (a group of one)."""
+    f = solo(puck_follower(gestures))
     return sum(s.valid and s.best == name for name, x, a, b in _paused_after_take(gestures)
                for s in run(f, x)[a:b])
 
@@ -76,7 +76,7 @@ def test_an_action_paused_just_after_its_recognition_holds_the_pause(gestures, m
     # it carried its performer CARRY_FIRST on: measured 120 of the 120 pause samples driven, 15
     # with every take held to CARRY_FIRST
     driven = _driven_in_pauses(gestures)
-    monkeypatch.setattr(validity, "TAKEN_PERFORMED", math.inf)
+    monkeypatch.setattr(validity, "TAKEN_PERFORMED", math.inf)   # read where the group is built
     plain = _driven_in_pauses(gestures)
     assert driven >= 114 and plain <= 30, (driven, plain)
 
@@ -94,9 +94,8 @@ def test_a_group_holds_an_action_paused_after_its_take_as_its_followers_alone(ge
     alone = [puck_follower(gestures) for _ in streams]
     group = FollowerGroup([puck_follower(gestures) for _ in streams])
     valid = _step_both(alone, group, streams)
-    monkeypatch.setattr(validity, "TAKEN_PERFORMED", math.inf)   # read by the followers alone
-    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams],
-                                                 streams) for x in s)
+    monkeypatch.setattr(validity, "TAKEN_PERFORMED", math.inf)   # read where it is built
+    plain = group_valid(lambda: puck_follower(gestures), streams)
     assert valid >= plain + 80, (valid, plain)
 
 
