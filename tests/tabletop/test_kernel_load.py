@@ -63,6 +63,7 @@ from behaviors.puppet_master import search_kernel
 loaded = bool(search_kernel.situation_reset.signatures)
 helpers = sorted(m for m in ("numba.np.arrayobj", "numba.np.npyimpl", "numba.np.arraymath",
                              "numba.misc.quicksort") if m in sys.modules)
+studio = "tabletop.studio.build" in sys.modules
 refreshed = "numba.np.polynomial.polynomial_core" in sys.modules   # a registry only
 in_run = len(parsed)
 import numba
@@ -75,7 +76,7 @@ def least_twice(x):                  # links the loaded kernel in: its bitcode p
     return 2.0 * least(x, 0, x.size)
 x = np.array([0.9, 0.3, 0.7, 0.2, 0.6])
 print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refreshed": refreshed,
-                  "helpers": helpers,
+                  "helpers": helpers, "studio": studio,
                   "dot": dot(np.ones(3), np.arange(3.0)), "parsed_in_run": in_run,
                   "linked": [least_twice(x), 2.0 * least.py_func(x, 0, x.size),
                              len(parsed) > in_run]}))
@@ -113,7 +114,8 @@ def test_a_run_without_a_camera_imports_neither_scipy_nor_opencv(tmp_path):
     code parsed (0.11-0.17 CPU s: numba_start._unparsed_links), nor numba's array helpers
     imported to unpickle the environments stored with it (0.15 CPU s:
     numba_start._environments_unimported); the kernel compiled after refreshes them, and one
-    calling a loaded kernel parses that kernel's bitcode to link it."""
+    calling a loaded kernel parses that kernel's bitcode to link it. The studio's modules are
+    not imported either (0.03 CPU s: tabletop/kiosk/runner.py)."""
     cfg = tmp_path / "scripted.yaml"
     cfg.write_text(f"""sources: [{{kind: scripted, pucks: [1, 2]}}]
 engines:
@@ -126,6 +128,7 @@ view: {{size: [320, 180]}}
     assert found["imported"] == []
     assert found["refreshed"] is False
     assert found["helpers"] == [], "numba's array helpers imported to unpickle environments"
+    assert found["studio"] is False, "the studio's modules imported by a run without it"
     assert found["dot"] == 3.0
     assert found["parsed_in_run"] == 0
     twice, python, parsed = found["linked"]
