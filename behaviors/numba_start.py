@@ -13,8 +13,11 @@ those two modules run, another thread's import of SciPy would fail: the installa
 
 numba's cache also refreshes its target before every load of a cached kernel: it imports and
 installs every lowering and typing registry numba has, which machine code loaded from a cache
-does not use (:func:`quick_loads`), and parses the LLVM bitcode stored with the machine code,
-which only a compile that links the kernel in uses (:func:`_unparsed_links`).
+does not use (:func:`quick_loads`), parses the LLVM bitcode stored with the machine code,
+which only a compile that links the kernel in uses (:func:`_unparsed_links`), and imports the
+numba modules whose helpers were compiled into it, which only object-mode code would read
+(:func:`_environments_unimported`). These change numba's internals: another numba than the
+one pinned (:data:`NUMBA`) is refused with a clear message as it is imported.
 """
 
 from __future__ import annotations
@@ -26,6 +29,8 @@ from typing import Any, Sequence
 
 #: the modules of numba that import SciPy only to look at it
 LOOKING = frozenset({"numba", "numba.np.arraymath"})
+#: the numba whose internals this module changes (pyproject.toml pins it)
+NUMBA = "0.68.1"
 
 
 class _WithoutScipy:
@@ -77,12 +82,18 @@ def quick_loads() -> None:
     makes), initialised here: a compile refreshes the target itself (numba's compiler does,
     before typing), and the modules a loaded kernel's globals live in are imported as its
     environment is unpickled. A load that fails so is made again as numba's own (refreshed)."""
+    import numba
     from numba.core import caching
     from numba.core.runtime import rtsys
 
     full = caching.Cache.load_overload
     if getattr(full, "quick", False):
         return
+    if numba.__version__ != NUMBA:
+        raise ImportError(f"numba {numba.__version__} is installed, but behaviors/numba_start.py "
+                          f"changes the internals of numba {NUMBA} (its cache loads): install "
+                          f"numba=={NUMBA}, as pyproject.toml pins it (make run or make test "
+                          "after `make clean`)")
 
     def load_overload(self: Any, sig: Any, target_context: Any) -> Any:
         rtsys.initialize(target_context)
@@ -95,6 +106,7 @@ def quick_loads() -> None:
     load_overload.quick = True  # type: ignore[attr-defined]
     caching.Cache.load_overload = load_overload
     _unparsed_links()
+    _environments_unimported()
 
 
 def _unparsed_links() -> None:
@@ -143,3 +155,33 @@ def _unparsed_links() -> None:
     lib._unserialize = classmethod(_unserialize)  # type: ignore[assignment]
     lib._get_module_for_linking = _get_module_for_linking  # type: ignore[method-assign]
     lib.get_pointer_to_function = get_pointer_to_function  # type: ignore[method-assign]
+
+
+def _environments_unimported() -> None:
+    """A cached kernel loaded without importing the numba modules its inlined helpers come from.
+
+    The machine code of a kernel keeps, for every function compiled into it, an environment:
+    the globals of that function's module, read only by object-mode code (a nopython kernel's
+    code reads only the constants stored with it). Unpickling one imports its module: numba's
+    array, ufunc and sorting implementations (numba.np.arrayobj, npyimpl, arraymath,
+    misc.quicksort and what they import; 0.15 of the ~1.3 CPU s a `tabletop run` of
+    config.yaml takes to start), which a load never runs. An environment of a numba module not
+    imported yet gets globals naming the module only (what pickling it again stores); one of
+    an imported module, or of the project's, is numba's own. A compile later in the process
+    imports those modules itself (its target's refresh)."""
+    from numba.core import environment
+
+    rebuild, Environment = environment._rebuild_env, environment.Environment
+
+    def _rebuild_env(modname: str, consts: Any, env_name: str) -> Any:
+        if modname in sys.modules or not modname.startswith("numba."):
+            return rebuild(modname, consts, env_name)
+        env = environment.lookup_environment(env_name)
+        if env is None:
+            env = Environment({"__name__": modname})
+            env.consts[:] = consts
+            env.env_name = env_name
+            Environment._memo[env_name] = env
+        return env
+
+    environment._rebuild_env = _rebuild_env

@@ -18,6 +18,7 @@ process; 0.25 s with them cached). Those already cached (their source unchanged)
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import sys
 from concurrent.futures import ProcessPoolExecutor
@@ -70,11 +71,26 @@ def plugin_files() -> list[Path]:
 
 def write(path: str) -> bool:
     """Rewrite one file and write its cached byte-code; False where pytest's functions are
-    missing or the file cannot be rewritten or written."""
+    missing or the file cannot be rewritten or written. The rewritten code is kept in the
+    machine's cache of byte-code (tabletop/bytecode_cache.py), keyed by the source's contents
+    and pytest's version: a fresh clone rewrote its 294 test modules, 10.6 CPU s, where only
+    those changed since the machine last saw them are rewritten now."""
     try:
+        import marshal
+
+        import pytest
         from _pytest.assertion import rewrite
+
+        from tabletop import bytecode_cache
         fn = Path(path)
-        source_hash, code = rewrite._rewrite_test(fn, None)
+        source = fn.read_bytes()
+        name = bytecode_cache.key(source, f"pytest {pytest.__version__} rewrite")
+        data = bytecode_cache.fetch(name)
+        if data is not None:
+            source_hash, code = importlib.util.source_hash(source), marshal.loads(data)
+        else:
+            source_hash, code = rewrite._rewrite_test(fn, None)
+            bytecode_cache.store(name, marshal.dumps(code))
         cache = rewrite.get_cache_dir(fn)
         cache.mkdir(exist_ok=True)
         return rewrite._write_pyc(_Quiet(), code, source_hash,

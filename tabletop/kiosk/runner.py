@@ -24,7 +24,6 @@ from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.paths import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
-from tabletop.studio.build import attach_studio
 from tabletop.studio.reloader import BehaviorReloader, keep_playing
 from tabletop.studio.session import end_drawing
 
@@ -183,6 +182,9 @@ class Runner:
         held: dict = {}
         self.studio = None
         if self.studio_on:
+            # (imported here: the studio's modules, the MOP and touch-pose take machinery, were
+            # 0.026-0.039 CPU s of every other run's start)
+            from tabletop.studio.build import attach_studio
             self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
             if notes:
                 self.studio.say("; ".join(notes))

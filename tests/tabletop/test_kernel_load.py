@@ -59,7 +59,11 @@ parse, parsed = ll.parse_bitcode, []
 ll.parse_bitcode = lambda b: parsed.append(len(b)) or parse(b)
 code = cli.main(["run", "--config", sys.argv[1], "--headless", "--seconds", "0.3"])
 imported = sorted({m.split(".")[0] for m in sys.modules} & {"scipy", "cv2"})
-loaded = "numba.np.arraymath" in sys.modules
+from behaviors.puppet_master import search_kernel
+loaded = bool(search_kernel.situation_reset.signatures)
+helpers = sorted(m for m in ("numba.np.arrayobj", "numba.np.npyimpl", "numba.np.arraymath",
+                             "numba.misc.quicksort") if m in sys.modules)
+studio = "tabletop.studio.build" in sys.modules
 refreshed = "numba.np.polynomial.polynomial_core" in sys.modules   # a registry only
 in_run = len(parsed)
 import numba
@@ -72,6 +76,7 @@ def least_twice(x):                  # links the loaded kernel in: its bitcode p
     return 2.0 * least(x, 0, x.size)
 x = np.array([0.9, 0.3, 0.7, 0.2, 0.6])
 print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refreshed": refreshed,
+                  "helpers": helpers, "studio": studio,
                   "dot": dot(np.ones(3), np.arange(3.0)), "parsed_in_run": in_run,
                   "linked": [least_twice(x), 2.0 * least.py_func(x, 0, x.size),
                              len(parsed) > in_run]}))
@@ -106,8 +111,11 @@ def test_a_run_without_a_camera_imports_neither_scipy_nor_opencv(tmp_path):
     marker dictionary (0.06 s). A kernel calling np.dot still compiles after (numba imports
     SciPy's BLAS then). Nor were numba's registries refreshed for those loads (0.2 CPU s a
     start: behaviors/numba_start.quick_loads), nor the LLVM bitcode stored with their machine
-    code parsed (0.11-0.17 CPU s: numba_start._unparsed_links); the kernel compiled after
-    refreshes them, and one calling a loaded kernel parses that kernel's bitcode to link it."""
+    code parsed (0.11-0.17 CPU s: numba_start._unparsed_links), nor numba's array helpers
+    imported to unpickle the environments stored with it (0.15 CPU s:
+    numba_start._environments_unimported); the kernel compiled after refreshes them, and one
+    calling a loaded kernel parses that kernel's bitcode to link it. The studio's modules are
+    not imported either (0.03 CPU s: tabletop/kiosk/runner.py)."""
     cfg = tmp_path / "scripted.yaml"
     cfg.write_text(f"""sources: [{{kind: scripted, pucks: [1, 2]}}]
 engines:
@@ -119,7 +127,19 @@ view: {{size: [320, 180]}}
     assert found["code"] == 0 and found["loaded"]
     assert found["imported"] == []
     assert found["refreshed"] is False
+    assert found["helpers"] == [], "numba's array helpers imported to unpickle environments"
+    assert found["studio"] is False, "the studio's modules imported by a run without it"
     assert found["dot"] == 3.0
     assert found["parsed_in_run"] == 0
     twice, python, parsed = found["linked"]
     assert twice == python and parsed
+
+
+def test_the_numba_whose_internals_are_changed_is_the_one_pinned():
+    """behaviors/numba_start.py changes numba's internals (its cache loads) and refuses to start
+    with another numba than the one it names: that one is pyproject.toml's pin, installed."""
+    from importlib.metadata import version
+
+    from behaviors import numba_start
+    assert f'"numba=={numba_start.NUMBA}"' in (ROOT / "pyproject.toml").read_text()
+    assert version("numba") == numba_start.NUMBA
