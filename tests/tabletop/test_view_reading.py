@@ -57,10 +57,16 @@ def table_view(turn: str | None, draw: Draw, light: int = 40) -> np.ndarray:
         surface = pygame.Surface(size)
         draw(renderer, surface, with_word)
         # (int16: a channel's difference is within +-255, three channels' sum within 765)
-        shots.append(pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(np.int16))
-    changed = ((np.abs(shots[0] - shots[1]).sum(axis=2, dtype=np.int16) > 40)
-               & (shots[0].sum(axis=2, dtype=np.int16) >= light))
+        shots.append(pygame.surfarray.pixels3d(surface).transpose(1, 0, 2).astype(np.int16))
+    changed = (channels(np.abs(shots[0] - shots[1])) > 40) & (channels(shots[0]) >= light)
     return back(changed)
+
+
+def channels(img: np.ndarray) -> np.ndarray:
+    """The sum of an image's three channels (rows x columns), as ``img.sum(axis=2)`` in its
+    dtype: three whole-image adds, where numpy's reduction over an axis of 3 went pixel by
+    pixel (0.15 of a turned view's 0.25 CPU s)."""
+    return img[..., 0] + img[..., 1] + img[..., 2]
 
 
 @pytest.fixture(scope="module")
@@ -151,7 +157,7 @@ def test_a_word_reads_upright_on_the_table_on_every_calibration(plain_view, word
 
 
 def bright(img: np.ndarray) -> np.ndarray:
-    return img.sum(axis=2) > 300
+    return channels(img) > 300
 
 
 def one_moment(turn: str | None) -> np.ndarray:
@@ -166,7 +172,7 @@ def one_moment(turn: str | None) -> np.ndarray:
     renderer.moment = 1.0                # (the calm screen at its full)
     surface = pygame.Surface(size)
     renderer.draw(surface, Frame(seq=0, t=0.0, status="one_moment"))
-    return back(pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int))
+    return back(pygame.surfarray.pixels3d(surface).transpose(1, 0, 2).astype(int))
 
 
 @pytest.mark.parametrize("turn", list(TURNS))
