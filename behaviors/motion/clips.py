@@ -416,6 +416,12 @@ class TimeWarp:
         self.points = pts
 
     def __call__(self, progress: float | np.ndarray) -> np.ndarray | float:
+        if isinstance(progress, float):
+            # one progress, as a puppet asks each tick: clipped without the array round trip
+            # (nan_to_num and clip cost 0.23 of examples/mop.yaml's 2.3 CPU s a 30 s run);
+            # values to the bit as below
+            p = 0.0 if progress != progress else min(max(progress, 0.0), 1.0)
+            return float(np.interp(p, self.points[:, 0], self.points[:, 1]))
         p = np.clip(np.nan_to_num(np.asarray(progress, dtype=float), nan=0.0), 0.0, 1.0)
         out = np.interp(p, self.points[:, 0], self.points[:, 1])
         return float(out) if out.ndim == 0 else out

@@ -7,6 +7,7 @@ import pytest
 
 from bench.follow_quality import puck_follower, true_metrics
 from bench.motions import performance, unrelated_motions
+from bench.tempo_span import AFTER, after_performances, from_rest_performances, recognised
 from tests.mop.helpers import run, solo
 
 
@@ -77,47 +78,13 @@ def test_an_action_followed_at_a_crawl_stops_driving(gestures, monkeypatch):
 
 
 
-# gestures of the held-out twenty that followed another one and were held by the tempo past
-# their observer's reach + 0.05 in bench/follow_seeds.py's sequences (seeds 101-106), each after
-# the gesture that ended before it there
-_AFTER = (("line", "spinkick_right_wrist"), ("dance_a_right_ankle", "walk_left_wrist"),
-          ("backflip_left_ankle", "roll_right_wrist"), ("jump_left_ankle", "dance_a_right_ankle"))
-
-
-def _after_performances(templates) -> list[tuple[np.ndarray, str, np.ndarray, int]]:
-    """Per pair of :data:`_AFTER` and seed 0-3: the second gesture begun where the first ended
-    (no rest, 0.8-1.2x, time-warped, the bench's jitter): samples, its name, its true progress
-    and the sample it begins at."""
-    from bench.motions import JITTER_M, at_phase, phase_of
-    out = []
-    for first, second in _AFTER:
-        for seed in range(4):
-            rng = np.random.default_rng(seed)
-            parts, at = [], np.zeros(2)
-            for g in (first, second):
-                phase, p = phase_of(rng, len(templates[g]))
-                parts.append(float(rng.uniform(0.8, 1.2)) * at_phase(templates[g], phase) + at)
-                at = parts[-1][-1].copy()
-            x = np.concatenate([np.zeros((15, 2))] + parts + [np.zeros((15, 2)) + at])
-            x += rng.normal(0, JITTER_M, x.shape)
-            out.append((x, second, p[:, 0], 15 + len(parts[0])))
-    return out
-
-
-def _recognised(states: list, name: str, prog: np.ndarray, begin: int) -> float:
-    """The progress at which ``name`` (true progress ``prog`` from sample ``begin``) is first
-    driven, 1 when never."""
-    hit = [p for s, p in zip(states[begin:], prog) if s.valid and s.best == name]
-    return float(hit[0]) if hit else 1.0
-
-
 @pytest.fixture(scope="module")
 def twenty() -> dict:
     """The held-out twenty templates, a puck follower of them, and per case of
-    :func:`_after_performances` its states stepped by the follower alone and its (best, valid)
-    by a group of one, the rules on: their (best, valid) at every tick and the progress at which
-    the gesture is first driven alone (:func:`_recognised`). One run each, read by both tests
-    of a gesture begun where another ended."""
+    :func:`~bench.tempo_span.after_performances` its states stepped by the follower alone and
+    its (best, valid) by a group of one, the rules on: their (best, valid) at every tick and the
+    progress at which the gesture is first driven alone (:func:`~bench.tempo_span.recognised`).
+    One run each, read by both tests of a gesture begun where another ended."""
     from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
     from behaviors.mop.group import FollowerGroup
 
@@ -125,13 +92,13 @@ def twenty() -> dict:
     f = puck_follower(templates)
     group = FollowerGroup([puck_follower(templates)])
     out = dict(templates=templates, follower=f, group=group, after=[])
-    for x, name, prog, begin in _after_performances(templates):
+    for x, name, prog, begin in after_performances(templates):
         alone = run(f, x)
         group.reset()
         together = [group.step([s])[0] for s in x]
         out["after"].append(([(a.best, a.valid) for a in alone],
                              [(b.best, b.valid) for b in together],
-                             _recognised(alone, name, prog, begin)))
+                             recognised(alone, name, prog, begin)))
     return out
 
 
@@ -145,31 +112,20 @@ def test_a_gesture_begun_where_another_ended_is_taken_at_its_own_tempo(twenty, m
 
     templates, f = twenty["templates"], twenty["follower"]
     now = []
-    for alone, together, recognised in twenty["after"]:
+    for alone, together, first in twenty["after"]:
         assert alone == together
-        now.append(recognised)
+        now.append(first)
     monkeypatch.setattr(tempo, "before_attempt", lambda samples: False)
-    before = np.array([_recognised(run(f, x), name, prog, begin)
-                       for x, name, prog, begin in _after_performances(templates)])
+    before = np.array([recognised(run(f, x), name, prog, begin)
+                       for x, name, prog, begin in after_performances(templates)])
     now = np.array(now)
     assert np.all(now <= before + 1e-9), (now, before)
     assert np.sum(now < before - 1e-9) >= 8 and now.mean() <= before.mean() - 0.01, (now, before)
 
 
-def _from_rest_performances(templates) -> list[tuple[np.ndarray, str, np.ndarray, int]]:
-    """The second gestures of :data:`_AFTER` from rest, seeds 0-3 (0.8-1.2x, time-warped, the
-    bench's jitter): samples, its name, its true progress and the sample it begins at."""
-    from bench.motions import JITTER_M, at_phase, phase_of
-    out = []
-    for name in dict.fromkeys(second for _, second in _AFTER):
-        for seed in range(4):
-            rng = np.random.default_rng(seed)
-            phase, p = phase_of(rng, len(templates[name]))
-            part = float(rng.uniform(0.8, 1.2)) * at_phase(templates[name], phase)
-            x = np.concatenate([np.zeros((15, 2)), part, np.zeros((15, 2)) + part[-1]])
-            x += rng.normal(0, JITTER_M, x.shape)
-            out.append((x, name, p[:, 0], 15))
-    return out
+#: the short templates the new gesture's tempo rule frees (bench/tempo_span.py: the 7 of its 32
+#: performances it moves are theirs), each the second of a pair of AFTER
+_SHORT = ("walk_left_wrist", "dance_a_right_ankle")
 
 
 def test_a_new_gesture_is_asked_its_tempo_over_its_own_samples(twenty, monkeypatch):
@@ -177,24 +133,28 @@ def test_a_new_gesture_is_asked_its_tempo_over_its_own_samples(twenty, monkeypat
     # and asked over the attempt's own samples (tempo.span), not over the whole window: a short
     # template (walk wrist, 38 states; dance ankle, 49) is no longer held its first samples
     # for an advance of 3 states; a group of the follower does the same (member_validity.tempo,
-    # slow_of). Measured: from rest and after a gesture (32 performances), sooner on 7, later
-    # on none, mean 0.128 -> 0.123 (the demand over the whole window: tempo.span constant)
+    # slow_of). Those two from rest and after a gesture (16 performances; bench/tempo_span.py
+    # runs the long templates of AFTER too, 32): measured sooner on 7, later on none, mean
+    # 0.126 -> 0.115 (the demand over the whole window: tempo.span constant)
     from behaviors.mop import tempo
 
     templates, f, group = twenty["templates"], twenty["follower"], twenty["group"]
-    rest, after = _from_rest_performances(templates), _after_performances(templates)
+    pairs = [p for p in AFTER if p[1] in _SHORT]
+    rest = from_rest_performances(templates, _SHORT)
+    after = after_performances(templates, pairs)
     now = []
     for x, name, prog, begin in rest:
         alone = run(f, x)
         group.reset()
         together = [group.step([s])[0] for s in x]
         assert [(a.best, a.valid) for a in alone] == [(b.best, b.valid) for b in together]
-        now.append(_recognised(alone, name, prog, begin))
-    for alone, together, recognised in twenty["after"]:
-        assert alone == together
-        now.append(recognised)
+        now.append(recognised(alone, name, prog, begin))
+    for i, (alone, together, first) in enumerate(twenty["after"]):
+        if AFTER[i // 4] in pairs:   # (four seeds a pair)
+            assert alone == together
+            now.append(first)
     monkeypatch.setattr(tempo, "span", lambda samples: float(tempo.TEMPO_SAMPLES))
-    before = np.array([_recognised(run(f, x), name, prog, begin)
+    before = np.array([recognised(run(f, x), name, prog, begin)
                        for x, name, prog, begin in rest + after])
     now = np.array(now)
     assert np.all(now <= before + 1e-9), (now, before)

@@ -126,6 +126,16 @@ def test_time_warp_lines_up_key_moments():
         TimeWarp([[0, 0], [0.5, 0.6], [0.5, 0.7], [1, 1]])
 
 
+def test_time_warp_of_one_progress_is_its_value_in_an_array():
+    # a float (a puppet's tick) takes a path of its own: the same values to the bit, a float
+    warp = TimeWarp([[0, 0], [0.3, 0.5], [0.7, 0.6], [1, 1]])
+    ps = [-0.5, -0.0, 0.0, 0.3, 0.31, 0.7, 0.999, 1.0, 1.5, math.inf, -math.inf, math.nan]
+    many = warp(np.array(ps))
+    for p, want in zip(ps, many):
+        for got in (warp(p), warp(np.float64(p))):
+            assert type(got) is float and got == want, (p, got, want)
+
+
 def test_resampled_keeps_the_motion():
     clip = _mixed_clip()
     r = clip.resampled(301)
