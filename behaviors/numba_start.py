@@ -16,13 +16,16 @@ installs every lowering and typing registry numba has, which machine code loaded
 does not use (:func:`quick_loads`), parses the LLVM bitcode stored with the machine code,
 which only a compile that links the kernel in uses (:func:`_unparsed_links`), and imports the
 numba modules whose helpers were compiled into it, which only object-mode code would read
-(:func:`_environments_unimported`). These change numba's internals: another numba than the
-one pinned (:data:`NUMBA`) is refused with a clear message as it is imported.
+(:func:`_environments_unimported`); and its runtime's own functions, which numba compiled at
+every start, are loaded from the kernel cache (:func:`_runtime`). These change numba's
+internals: another numba than the one pinned (:data:`NUMBA`) is refused with a clear message
+as it is imported.
 """
 
 from __future__ import annotations
 
 import importlib.machinery
+import os
 import sys
 from types import ModuleType
 from typing import Any, Sequence
@@ -96,7 +99,8 @@ def quick_loads() -> None:
                           "after `make clean`)")
 
     def load_overload(self: Any, sig: Any, target_context: Any) -> Any:
-        rtsys.initialize(target_context)
+        if not rtsys._init:
+            _runtime(target_context)
         try:
             with self._guard_against_spurious_io_errors():
                 return self._load_overload(sig, target_context)
@@ -185,3 +189,64 @@ def _environments_unimported() -> None:
         return env
 
     environment._rebuild_env = _rebuild_env
+
+
+def _runtime(target_context: Any) -> None:
+    """numba's runtime (NRT) initialised with its own functions' machine code from the kernel
+    cache, compiled there once per numba and CPU: numba compiles them at every start (the
+    first kernel a process loads), 0.027-0.035 of the ~1.2 CPU s a `tabletop run` takes to
+    start. What its initialisation does otherwise is done as numba does it."""
+    import pickle
+
+    import llvmlite.binding as ll
+    from numba.core import config
+    from numba.core.compiler_lock import global_compiler_lock
+    from numba.core.runtime import _nrt_python as _nrt
+    from numba.core.runtime import nrtdynmod, rtsys
+
+    from behaviors.kernel_cache import SHARED
+
+    with global_compiler_lock:
+        if rtsys._init:
+            return
+        if config.NRT_STATS:
+            _nrt.memsys_enable_stats()
+        for py_name, address in _nrt.c_helpers.items():
+            ll.add_symbol(py_name if py_name.startswith("_") else "NRT_" + py_name, address)
+        codegen, path = target_context.codegen(), runtime_file(target_context)
+        library = None
+        try:
+            with open(path, "rb") as f:
+                library = codegen.unserialize_library(pickle.loads(f.read()))
+        except Exception:   # none yet, or damaged: compiled as numba does, and saved
+            ir_module, library = nrtdynmod.create_nrt_module(target_context)
+            library.enable_object_caching()
+            library.add_ir_module(ir_module)
+            library.finalize()
+            tmp = f"{path}.{os.getpid()}"
+            try:
+                os.makedirs(SHARED, exist_ok=True)
+                with open(tmp, "wb") as f:
+                    f.write(pickle.dumps(library.serialize_using_object_code()))
+                os.replace(tmp, path)
+            except OSError:
+                pass
+        rtsys._library = library
+        rtsys._init = True
+
+
+def runtime_file(target_context: Any) -> str:
+    """Where :func:`_runtime` keeps NRT's machine code: the kernel cache's file for this numba,
+    llvmlite, CPU (numba's own key of compiled code: triple, CPU name, features) and NRT's
+    debugging settings."""
+    import hashlib
+
+    import llvmlite
+    import numba
+    from numba.core import config
+
+    from behaviors.kernel_cache import SHARED
+
+    key = repr((numba.__version__, llvmlite.__version__, target_context.codegen().magic_tuple(),
+                config.DEBUG_NRT, config.DEBUG_NRT_STACK_LIMIT))
+    return os.path.join(SHARED, f"nrt-{hashlib.sha256(key.encode()).hexdigest()[:20]}")

@@ -51,13 +51,20 @@ print(json.dumps({"built": len(built), "stepped": len(kernel_cache.PENDING),
 
 
 RUN_SCRIPTED = """
-import json, sys
+import json, os, sys
 import llvmlite.binding as ll
 import numpy as np
 from tabletop import cli
 parse, parsed = ll.parse_bitcode, []
 ll.parse_bitcode = lambda b: parsed.append(len(b)) or parse(b)
+from behaviors import kernel_cache, numba_start
+nrt_kept = {p for p in os.listdir(kernel_cache.SHARED) if p.startswith("nrt-")}
 code = cli.main(["run", "--config", sys.argv[1], "--headless", "--seconds", "0.3"])
+from numba.core.registry import cpu_target
+from numba.core.runtime import rtsys
+nrt = os.path.basename(numba_start.runtime_file(cpu_target.target_context))
+nrt = [nrt in nrt_kept, "_unparsed" in rtsys.library.__dict__, os.path.exists(
+    numba_start.runtime_file(cpu_target.target_context))]
 imported = sorted({m.split(".")[0] for m in sys.modules} & {"scipy", "cv2"})
 from behaviors.puppet_master import search_kernel
 loaded = bool(search_kernel.situation_reset.signatures)
@@ -76,7 +83,7 @@ def least_twice(x):                  # links the loaded kernel in: its bitcode p
     return 2.0 * least(x, 0, x.size)
 x = np.array([0.9, 0.3, 0.7, 0.2, 0.6])
 print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refreshed": refreshed,
-                  "helpers": helpers, "studio": studio,
+                  "helpers": helpers, "studio": studio, "nrt": nrt,
                   "dot": dot(np.ones(3), np.arange(3.0)), "parsed_in_run": in_run,
                   "linked": [least_twice(x), 2.0 * least.py_func(x, 0, x.size),
                              len(parsed) > in_run]}))
@@ -115,7 +122,8 @@ def test_a_run_without_a_camera_imports_neither_scipy_nor_opencv(tmp_path):
     imported to unpickle the environments stored with it (0.15 CPU s:
     numba_start._environments_unimported); the kernel compiled after refreshes them, and one
     calling a loaded kernel parses that kernel's bitcode to link it. The studio's modules are
-    not imported either (0.03 CPU s: tabletop/kiosk/runner.py)."""
+    not imported either (0.03 CPU s: tabletop/kiosk/runner.py), and numba's runtime functions
+    are loaded from the kernel cache, not compiled (0.03 CPU s: numba_start._runtime)."""
     cfg = tmp_path / "scripted.yaml"
     cfg.write_text(f"""sources: [{{kind: scripted, pucks: [1, 2]}}]
 engines:
@@ -129,6 +137,8 @@ view: {{size: [320, 180]}}
     assert found["refreshed"] is False
     assert found["helpers"] == [], "numba's array helpers imported to unpickle environments"
     assert found["studio"] is False, "the studio's modules imported by a run without it"
+    kept, loaded, saved = found["nrt"]
+    assert saved and loaded == kept, "NRT's machine code saved to the kernel cache, loaded there"
     assert found["dot"] == 3.0
     assert found["parsed_in_run"] == 0
     twice, python, parsed = found["linked"]
