@@ -344,6 +344,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._forget_shape()
         self._threshold_ev, self._threshold_x = 0.0, None
         self._taken: list[np.ndarray] = []   # the gesture's last samples (Refusal._fits_take)
+        self._stroke_bent = False   # the input left its chord since the attempt began (_strays)
 
     @property
     def log_constant(self) -> float:

@@ -142,6 +142,7 @@ class GroupArrays:
         self._thr_has_x = np.zeros(m, dtype=bool)
         # the gesture's last samples from the anchor, oldest first (TakeRule._fits_take)
         self._taken, self._taken_n = np.zeros((m, TAKE_SAMPLES, dmax)), np.zeros(m, dtype=np.intp)
+        self._stroke_bent = np.zeros(m, dtype=bool)   # (Turning._strays' latch)
         self._tempo_arrays()
         self._m_dim = col(lambda f: f.dim)
 
@@ -158,7 +159,8 @@ class GroupArrays:
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
                    "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
-                   "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
+                   "_abandon_rested", "_taken", "_taken_n", "_stroke_bent", "_end_history",
+                   "_end_history_n",
                    "_lagged", "_blocked", "_blocked_k", "_barred", "_freed", "_unseen_x",
                    "_unseen_last", "_has_unseen", "_end_near", "_end_nearing", "_take_shift",
                    "_rev_turn", "_rev_way", "_rev_age", "_begun_at_return",

@@ -46,6 +46,10 @@ class GroupRules:
         self._turn_ref = np.zeros((m, dmax))
         self._turn_has_ref, self._turn_has_h = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._turn_ok = np.ones(m, dtype=bool)
+        # each state from its template's first (raw units; bends.strays)
+        self._stroke_path = np.ascontiguousarray(np.concatenate(
+            [(f._rel * f._units)[:, :2] if f._turn is not None
+             else np.zeros((len(f.bank.means), 2)) for f in fs]))
 
     def _tempo_arrays(self) -> None:
         """The last samples and followed states of members that spot
@@ -71,7 +75,9 @@ class GroupRules:
                 self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok,
                 self._before_bend, bends.UNTURNED, self._bend_hidden, self._waits, self._source,
                 bends.STRAIGHT_TO if bends.GROWN_STRAIGHT else -np.inf, self._straight,
-                self._m_rest, bends.REST_BENT, bends.REST_UNTURNED, bends.REST_TURNED)
+                self._m_rest, bends.REST_BENT, bends.REST_UNTURNED, bends.REST_TURNED,
+                self._stroke_path, self._size, self._taken, self._taken_n, self._stroke_bent,
+                bends.STROKE_STRAIGHT, bends.STRAYS)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now
@@ -166,6 +172,7 @@ class GroupRules:
         self._rev_age[rows] = -1
         self._shape_n[rows] = 0.0
         self._taken_n[rows] = 0
+        self._stroke_bent[rows] = False
         self._thr_ev[rows] = 0.0
         self._thr_has_x[rows] = False
         self._turn_in[rows] = 0.0

@@ -40,12 +40,13 @@ _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 
 @compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
                    _F1, numba.intp, numba.float64, _B1, _F1, numba.float64, _B1, _F1, _F1,
-                   numba.float64, _B1, _B1, numba.float64, numba.float64, numba.float64),
+                   numba.float64, _B1, _B1, numba.float64, numba.float64, numba.float64,
+                   _F2, _F1, _F3, _I1, _B1, numba.float64, numba.float64),
           *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
            mean, turns, step, limit, reach, first_steps, ok, before, unturned, hidden, waits,
            source, straight_to, straight, rest, rest_bent, rest_unturned,
-           rest_turned) -> None:
+           rest_turned, path, size, taken, taken_n, bent, stroke_straight, strays) -> None:
     """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
     (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
     ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
@@ -61,7 +62,12 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
     ``straight``; and, into ``ok`` as well, whether a new best is not taken while the member
     rests (``rest``) on a straight stroke where its template has turned (:func:`bends.bent_rest
     <behaviors.mop.bends.bent_rest>`; ``rest_bent``: its limit, 0 for never; ``rest_unturned``,
-    ``rest_turned``: its second). The same
+    ``rest_turned``: its second); and, into ``hidden`` as well, whether the member draws a
+    straight stroke its best's path so far strays from (:func:`bends.strays
+    <behaviors.mop.bends.strays>`: ``path`` (S, 2), each state from its template's first, raw
+    units; ``size`` (K,); ``taken``, ``taken_n``: the gesture's last samples, this one not yet
+    among them; ``bent``: the member's input left its chord since its attempt began, set here;
+    ``stroke_straight``, ``strays``: its limits, ``strays`` 0 for never). The same
     operations in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi
     for i in range(x.shape[0]):
@@ -92,6 +98,19 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
             ok[i] = ok[i] and not (abs(turn[i]) < unturned and off_c >= rest_bent
                                    or abs(turn[i]) < rest_unturned and off_c >= rest_turned)
         hidden[i] = before[off + c] > 0.0 and abs(turn[i]) < unturned
+        d0, d1 = x[i, 0] - anchor[i, 0], x[i, 1] - anchor[i, 1]
+        chord = math.hypot(d0, d1)
+        if strays > 0.0 and not bent[i] and chord > 0.0:
+            u0, u1 = d0 / chord, d1 / chord
+            for r in range(max(0, taken_n[i] - (taken.shape[1] - 1)), taken_n[i]):
+                if abs(taken[i, r, 0] * u1 - taken[i, r, 1] * u0) > stroke_straight:
+                    bent[i] = True
+                    break
+            if not bent[i]:
+                far = 0.0
+                for j in range(lo, c + 1):
+                    far = max(far, abs(path[off + j, 0] * u1 - path[off + j, 1] * u0))
+                hidden[i] = hidden[i] or far * size[k] > strays
         g = lo + min(mean[k], n - 1.0)
         j = int(g)
         at = source[off + j] + (g - j) * (source[off + min(j + 1, lo + n - 1)] - source[off + j])

@@ -325,6 +325,9 @@ class Recognition:
             # straight (bends.unturned)
             overran = overran or bends.unturned(float(self._before_bend[int(g[bi])]),
                                                 self._turn_in)
+            # ... nor while the input draws a straight stroke its path so far strays from
+            # (bends.strays)
+            overran = self._strays(bi, int(g[bi]), x) or overran
             self._crawl = crawl_run(self._crawl, bi == self._crawl_k, slow,
                                     hovers and self._drive_k != bi)
             self._crawl_k = bi

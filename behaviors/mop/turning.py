@@ -151,3 +151,17 @@ class Turning:
         c = int(g)
         return turn_fits(self._turn[max(lo, c - TURN_REACH):min(hi, c + TURN_REACH) + 1],
                          self._turn_in, self.turn_limit)
+
+    def _strays(self, bi: int, c: int, x: np.ndarray) -> bool:
+        """Whether template ``bi``, followed at state ``c`` (bank index), is not shown while the
+        input ``x`` draws a straight stroke its path so far strays from
+        (:func:`bends.strays <behaviors.mop.bends.strays>`; 2-D spatial inputs)."""
+        if self._turn is None or self._anchor is None or self._stroke_bent:
+            return False
+        lo = int(self.bank.starts[bi])
+        path = self._rel[lo:c + 1] * self._units
+        samples = np.asarray(self._taken[:-1]).reshape(-1, self.dim) * 1.0
+        out = bends.strays(path, float(self._size[bi]), samples, x - self._anchor)
+        # (once the input left its chord, it draws no straight stroke until a new attempt)
+        self._stroke_bent = out is None
+        return bool(out)

@@ -9,7 +9,7 @@ import pytest
 
 from bench.follow_quality import puck_follower, true_metrics
 from bench.motions import at_phase, performance, phase_of, raise_hold_return, unrelated_motions
-from behaviors.mop import shape_lead, take_rule
+from behaviors.mop import bends, shape_lead, take_rule
 from behaviors.mop.follower import ActionFollower
 from tests.mop.helpers import run, solo, widened_mirrored
 
@@ -181,6 +181,9 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     # they stay valid for those stretches; validity.stalls and tempo.crawls take part of
     # what they would: without crawls 0.121 with them, 0.251 without); all measured with the
     # last samples' fit (take_rule.TAKE_MISFIT2) lifted, which takes most of what they take
+    # (bends.STRAYS off: its straight strokes are ones the templates stray from; the rule
+    # would hide what this one measures)
+    monkeypatch.setattr(bends, "STRAYS", 0.0)   # read at each step
     monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)   # read at each step
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)

@@ -9,7 +9,7 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import shape_lead, take_rule, tempo, threshold, validity
+from behaviors.mop import bends, shape_lead, take_rule, tempo, threshold, validity
 from behaviors.mop.follower_validity import Validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import Refusal, shape_limits
@@ -50,6 +50,9 @@ def test_the_scaled_path_limits_keep_a_chord_of_the_circle_from_driving_it(gestu
     # of it. Measured: diagonal 0.101 (0.27 / 0.02 / 0.01), spiral 0.124, wander 0; with
     # 1.4 / 1.2, 0.263 and 0.133 (with no action taken where the last samples stray from its
     # path, take_rule.TAKE_MISFIT2, lifted here: the diagonal 0 with either limits)
+    # (bends.STRAYS off: its straight strokes are ones the templates stray from; the rule
+    # would hide what this one measures)
+    monkeypatch.setattr(bends, "STRAYS", 0.0)   # read at each step
     monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
     now = _circle_alone_shares(gestures)
     loose = _circle_alone_shares(gestures, shape_distance=1.4, shape_accept=1.2)
@@ -245,6 +248,9 @@ def test_an_action_the_input_drifts_off_sample_after_sample_stops_driving(gestur
     # its followed state 2 -> 12 still radii over 10-12 samples. Measured with every overrun taken
     # as an onset (overrun.GROWN_ONSET_ONLY's hold off): 41 ticks, 55 without; with the hold
     # the overrun vetoes these ticks as well (40 both)
+    # (bends.STRAYS off: its straight strokes are ones the templates stray from; the rule
+    # would hide what this one measures)
+    monkeypatch.setattr(bends, "STRAYS", 0.0)   # read at each step
     onset = Validity._overruns
 
     def onset_each_sample(self, k, g, x, progress):
@@ -279,6 +285,9 @@ def test_a_new_action_is_taken_only_while_the_last_samples_fit_its_path(monkeypa
     # rounded loop 13-17 mm off, followed within its spread at the size estimated; read afresh
     # at their best size, the last samples stray 0.23-0.38 sigma^2 from its path (true takes:
     # 0.02 median). Measured 3 valid ticks of 316, 78 without
+    # (bends.STRAYS off: its straight strokes are ones the templates stray from; the rule
+    # would hide what this one measures)
+    monkeypatch.setattr(bends, "STRAYS", 0.0)   # read at each step
     templates, streams = _mirrored_squares()
     f = solo(puck_follower(templates))
     now = sum(s.valid for x in streams for s in run(f, x))
