@@ -34,7 +34,9 @@ def face(hint: bool) -> CharacterState:
 def drawn(hint: bool) -> tuple[np.ndarray, Renderer]:
     r = Renderer(TABLE, SIZE)
     s = pygame.Surface(SIZE)
-    for k in range(30):       # a second: the hint faded in
+    # a second: the hint faded in; drawn every 0.1 s (the last image is the one every 30 Hz
+    # frame makes, to the pixel)
+    for k in (*range(0, 29, 3), 29):
         r.draw(s, Frame(seq=k, t=1.0 + k / 30, characters=(face(hint),)))
     return rgb(s).astype(int).sum(axis=2), r
 
