@@ -160,7 +160,9 @@ def test_a_long_session_keeps_at_most_keep_parts(tmp_path, caplog):
         rec.close()
     assert len(rec.paths) >= 8
     assert most <= 3 and sorted(tmp_path.iterdir()) == sorted(rec.paths[-3:])
-    said = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    # (a loaded machine may add the recorder's "the disk is slower than the frames" warning)
+    said = [r.getMessage() for r in caplog.records
+            if r.levelname == "WARNING" and "removed" in r.getMessage()]
     assert len(said) == 1 and f"its part {rec.paths[0]} removed" in said[0], said
     # the closing line counts what stays, not only what was written
     done = [r.getMessage() for r in caplog.records if "frames in" in r.getMessage()]

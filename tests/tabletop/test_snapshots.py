@@ -3,6 +3,7 @@ in a folder per run, bounded in count and size, with the health of that moment, 
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import threading
@@ -247,20 +248,44 @@ def test_a_camera_without_a_frame_yet_is_down_but_not_inf_seconds_late():
     assert "DOWN" in line and "inf" not in line
 
 
+def _installation_under(wrapper: subprocess.Popen) -> int:
+    """The pid of the ``tabletop`` process that ``xvfb-run`` (``wrapper``) started."""
+    kids = Path(f"/proc/{wrapper.pid}/task/{wrapper.pid}/children").read_text().split()
+    for pid in kids:
+        if b"tabletop" in Path(f"/proc/{pid}/cmdline").read_bytes():
+            return int(pid)
+    raise LookupError(f"no tabletop process under xvfb-run (children {kids})")
+
+
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="needs xvfb-run (a virtual X display)")
 def test_snapshots_with_a_window(tmp_path):
+    """A run with a real window snapshots on and on: it runs until 4 snapshots are there (a
+    loaded machine takes longer, the 120 s cap only ends a hung run), then SIGTERM ends it."""
     cfg = tmp_path / "window.yaml"
     cfg.write_text("sources: [{kind: scripted}]\n"
                    "view: {size: [320, 200], snapshot_every_s: 0.25, snapshot_folder: snaps}\n")
     env = {k: v for k, v in os.environ.items() if k != "SDL_VIDEODRIVER"}
-    r = subprocess.run(["xvfb-run", "-a", sys.executable, "-m", "tabletop", "run", "--config",
-                        str(cfg), "--seconds", "1.5"], capture_output=True, text=True, env=env,
-                       cwd=ROOT, timeout=120)
-    assert r.returncode == 0, r.stderr
-    assert "headless" not in r.stderr  # a real window
+    p = subprocess.Popen(["xvfb-run", "-a", sys.executable, "-m", "tabletop", "run", "--config",
+                          str(cfg)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         env=env, cwd=ROOT)
+    try:
+        deadline = time.monotonic() + 120
+        while p.poll() is None and time.monotonic() < deadline and \
+                len(list((tmp_path / "snaps").glob("snapshot-*.png"))) < 4:
+            time.sleep(0.05)
+        if p.poll() is None:
+            os.kill(_installation_under(p), signal.SIGTERM)
+        _, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
+    assert p.returncode == 0, err
+    assert "SIGTERM received" in err and "Traceback" not in err, err
+    assert "headless" not in err  # a real window
     snaps = sorted((tmp_path / "snaps").glob("snapshot-*.png"))
     assert len(snaps) >= 4
-    img = pygame.image.load(str(snaps[-1]))
+    img = pygame.image.load(str(snaps[-1]))   # written whole: the run waited for its writer
     assert img.get_size() == (320, 200)
 
 
