@@ -181,12 +181,22 @@ def _defer(dispatcher: Any, signature: Any) -> None:
 
 def load(*dispatchers: Any) -> None:
     """Each of ``dispatchers`` made of :func:`compiled` with a signature compiled for it (loaded
-    from its cache) and closed to others, if not yet: once, whichever thread asks first."""
+    from its cache) and closed to others, if not yet: once, whichever thread asks first.
+
+    The first-need hooks stay until the signature is compiled: another thread calling the
+    kernel meanwhile waits in them (for numba's lock) and then finds it. Removed first, that
+    call went to numba's own compile, which waited for the same lock and then raised
+    "compilation disabled" (a studio training on its worker while the studio's view loaded
+    the same kernel: 1 run in 3 of test_studio_keys' MOP slot on a loaded machine)."""
     with global_compiler_lock:    # numba's: a kernel compiled on one thread may load another
         for dispatcher in dispatchers:
             signature = PENDING.pop(dispatcher, None)
             if signature is None:
                 continue
+            try:
+                dispatcher.compile(signature)
+            except BaseException:
+                PENDING[dispatcher] = signature   # (the next need tries again, and says why)
+                raise
             del dispatcher._compile_for_args, dispatcher.get_call_template
-            dispatcher.compile(signature)
             dispatcher.disable_compile()

@@ -155,3 +155,50 @@ def test_a_damaged_cache_file_is_compiled_again(tmp_path, caplog):
         assert build()(4.0) == 8.0                   # the cache written afresh loads
     said = [r.getMessage() for r in caplog.records if "damaged" in r.getMessage()]
     assert len(said) == 2, said
+
+
+SLOW_KERNEL = '''
+import numpy as np
+
+
+def spread(x):
+    out = np.empty(x.size)
+    for i in range(x.size):
+        out[i] = np.sqrt(abs(x[i])) + np.sin(x[i]) * np.cos(x[:i + 1]).sum() - x.mean()
+    return out
+'''
+
+
+def test_a_kernel_called_on_one_thread_while_another_loads_it_waits_for_it(tmp_path):
+    """A kernel loaded by one thread (an engine's build) and called meanwhile by another (a
+    training on its worker): the call waits for the load and gets the kernel's result, not
+    numba's "compilation disabled" (its own compile, closed by the load it waited for)."""
+    import importlib.util
+    import threading
+    import numpy as np
+    from behaviors.kernel_cache import compiled, load
+    (tmp_path / "slow_kernel.py").write_text(SLOW_KERNEL)
+    spec = importlib.util.spec_from_file_location("slow_kernel", tmp_path / "slow_kernel.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    x = np.linspace(-1.0, 1.0, 5)
+    for attempt in range(2):    # compiled afresh, then loaded from its cache
+        kernel = compiled("float64[::1](float64[::1])")(mod.spread)
+        loading = threading.Thread(target=load, args=(kernel,))
+        got: dict = {}
+
+        def call() -> None:
+            while kernel in shared.PENDING:   # until the load has begun
+                pass
+            try:
+                got["value"] = kernel(x)
+            except Exception as exc:   # what the race raised
+                got["error"] = exc
+
+        caller = threading.Thread(target=call)
+        caller.start()
+        loading.start()
+        loading.join(120)
+        caller.join(120)
+        assert "error" not in got, (attempt, got.get("error"))
+        assert np.array_equal(got["value"], mod.spread(x)), attempt
