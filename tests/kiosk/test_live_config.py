@@ -67,10 +67,18 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
     an unknown key, a file that is not YAML, the heartbeat sent to the installation's own osc
     source (``run --kiosk`` with ``kiosk.enabled`` off: refused as at a start), the file gone,
     a folder in its place (called a folder, not "config file not found"); a good edit or a
-    file put back is applied."""
+    file put back is applied. The status file the kiosk leaves when it ends on purpose says
+    "stopped" (fps 0, the time of the stop); it kept saying "live" with the pid of a process
+    gone."""
+    import json
+    import os
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    status_file = tmp_path / "status.json"
     with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        assert wait_for(lambda: status_file.is_file(), 15), "no status file"
+        live = json.loads(status_file.read_text())
+        assert live["mode"] in ("live", "attract") and live["fps"] > 0, live
         first = runner.inst
         bad = config([10, 20, 30])
         bad["engines"][0]["colour"] = [1, 2, 3]
@@ -113,6 +121,10 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
         assert runner.watcher.error is None and runner.watcher.applied == 1
         assert runner.inst.engines[0].color == (200, 100, 50)
         assert first.loop.stop.is_set()                     # the old one was closed
+    left = json.loads(status_file.read_text())
+    assert left["mode"] == "stopped" and left["fps"] == 0.0, left
+    assert left["pid"] == os.getpid() and left["name"] == live["name"]
+    assert left["uptime_s"] >= live["uptime_s"]
 
 
 def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_path):
@@ -323,24 +335,6 @@ def test_a_recording_that_failed_before_an_applied_edit_is_remembered(tmp_path):
         signal.signal(signal.SIGXFSZ, old_handler)
     assert len(runner.recording_failures) == 1
     assert "File too large" in runner.recording_failures[0]
-
-
-def test_a_kiosk_that_ends_leaves_a_status_file_saying_it_stopped(tmp_path):
-    """The status file a kiosk leaves when it ends on purpose says "stopped" (fps 0, the time
-    of the stop); it kept saying "live" with the pid of a process gone."""
-    import json
-    import os
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(config([10, 20, 30])))
-    status_file = tmp_path / "status.json"
-    with running(Runner(path, load_config(path), headless=True, kiosk=True)):
-        assert wait_for(lambda: status_file.is_file(), 15)
-        live = json.loads(status_file.read_text())
-        assert live["mode"] in ("live", "attract") and live["fps"] > 0
-    left = json.loads(status_file.read_text())
-    assert left["mode"] == "stopped" and left["fps"] == 0.0, left
-    assert left["pid"] == os.getpid() and left["name"] == live["name"]
-    assert left["uptime_s"] >= live["uptime_s"]
 
 
 def test_a_refused_edit_put_back_is_said_to_be_over_in_the_log(tmp_path, caplog):
