@@ -379,7 +379,7 @@ def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
 
 
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
-    from behaviors.puppet_master.engine import Behavior
+    from behaviors.puppet_master import kept
     _check_kept_name(options, ctx)
     delayed, cycle = _delayed(options, ctx)
     behavior, bname, read, problem, played = None, "", None, "", None
@@ -398,7 +398,7 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
             if options["rate_hz"] is not None:
                 params["rate_hz"] = options["rate_hz"]
             try:
-                behavior = Behavior.train(stored.demonstration, **params)
+                behavior = kept.train(stored.demonstration, **params)   # (a rebuild's)
             except InputError as exc:   # its parameters or demonstration: named with its key
                 said = library.parameter_refused(
                     stored, exc, () if options["rate_hz"] is None else ("rate_hz",))
