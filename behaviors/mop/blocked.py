@@ -36,7 +36,7 @@ BLOCKED_SAMPLES = 4
 BLOCKED_SIZE = 0.8
 
 
-@compiled(numba.boolean(numba.float64[::1], numba.intp, numba.intp, numba.intp, numba.float64,
+@compiled(numba.boolean(numba.float64[:], numba.intp, numba.intp, numba.intp, numba.float64,
                         numba.float64, numba.float64))
 def lead_of_size(evidence: np.ndarray, lo: int, hi: int, k: int, size: float, dims: float,
                  memory: float) -> bool:
@@ -61,7 +61,7 @@ def blocked_run(run: int, same: bool, blocked: bool) -> int:
     return (run + 1 if same else 1) if blocked else 0
 
 
-@compiled(numba.intp(numba.float64[::1], numba.intp, numba.intp, numba.intp))
+@compiled(numba.intp(numba.float64[:], numba.intp, numba.intp, numba.intp))
 def likeliest_other(evidence: np.ndarray, lo: int, hi: int, barred: int) -> int:
     """The template of most evidence in ``lo:hi`` other than ``barred`` (the first of equals)."""
     best = -1
@@ -71,7 +71,7 @@ def likeliest_other(evidence: np.ndarray, lo: int, hi: int, barred: int) -> int:
     return best
 
 
-@compiled(numba.float64(numba.float64[::1], numba.intp, numba.intp, numba.intp, numba.intp))
+@compiled(numba.float64(numba.float64[:], numba.intp, numba.intp, numba.intp, numba.intp))
 def others_total(evidence: np.ndarray, lo: int, hi: int, barred: int, top: int) -> float:
     """The probabilities' normaliser among the templates in ``lo:hi`` but ``barred``, against
     ``top`` (the likeliest of them; a group's, summed in order)."""

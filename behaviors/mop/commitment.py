@@ -83,9 +83,10 @@ COMMIT_LAGS = 3
 
 
 _F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
+_FA2 = numba.float64[:, :]   # a follower's sums, or a group's (columns of its per-template state)
 
 
-@compiled(numba.void(_F2, numba.intp, _F1, numba.float64, numba.intp, numba.intp, _F2,
+@compiled(numba.void(_FA2, numba.intp, _F1, numba.float64, numba.intp, numba.intp, _F2,
                      numba.intp, numba.intp, numba.intp, numba.float64, _F1, _F1))
 def add_lagged(sums: np.ndarray, k: int, dx: np.ndarray, g: float, first: int, last: int,
                states: np.ndarray, off: int, col: int, d: int, size: float, units: np.ndarray,

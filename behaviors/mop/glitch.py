@@ -113,9 +113,11 @@ def glitch_limits(templates: Mapping[str, np.ndarray], largest_size: float, sigm
 
 _F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
+# columns of a group's per-template state (group_layout.FLOATS)
+_FA1, _BA1 = numba.float64[:], numba.boolean[:]
 
 
-@compiled(numba.float64(_F2, _F2, _I1, _I1, _F1, _F1, _B1, numba.intp, numba.intp, numba.intp,
+@compiled(numba.float64(_F2, _F2, _I1, _I1, _F1, _FA1, _BA1, numba.intp, numba.intp, numba.intp,
                         numba.intp, numba.intp),
           *_CALLS_INTO, fastmath=CONTRACT)
 def path_distance(z, means, starts, lengths, mean, evidence, refused, a0, a1, d, back,
@@ -147,7 +149,7 @@ def path_distance(z, means, starts, lengths, mean, evidence, refused, a0, a1, d,
     return near
 
 
-@compiled(numba.boolean(_F2, _F2, _I1, _I1, _F1, _F1, _B1, _I1, _I1, _I1, _I1, _F1, numba.intp,
+@compiled(numba.boolean(_F2, _F2, _I1, _I1, _F1, _FA1, _BA1, _I1, _I1, _I1, _I1, _F1, numba.intp,
                         numba.intp, _F1, _B1, _B1, _B1),
           *_CALLS_INTO, fastmath=CONTRACT)
 def path_distances(z, means, starts, lengths, mean, evidence, refused, bounds, counts, dims, best,

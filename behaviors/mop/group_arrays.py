@@ -228,9 +228,10 @@ class GroupArrays:
                  "memory": lambda f: f.memory}
         cols = np.array([[float(rules[n](f)) for n in members.MEMBER_RULES] for f in fs])
         self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
-        # the per-template state the compiled passes update, one row each of two arrays
-        self._floats = self._rows(group_layout.FLOATS, float)
-        self._flags = self._rows(group_layout.FLAGS, bool)
+        # the per-template state the compiled passes update, one column each of two arrays
+        # (a template's state together: group_layout.FLOATS)
+        self._floats = self._columns(group_layout.FLOATS, float)
+        self._flags = self._columns(group_layout.FLAGS, bool)
         self._k_new = np.zeros(k, dtype=bool)
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)
@@ -275,3 +276,14 @@ class GroupArrays:
                 for f, sl in zip(self.followers, self._slices):
                     setattr(f, n, row[sl])
         return rows
+
+    def _columns(self, names: tuple[str, ...], dtype: type) -> np.ndarray:
+        """The per-template arrays ``names`` (K,) as the columns of one array (K, len(names)):
+        each name (and the members' share of a shared one) becomes a view of its column."""
+        cols = np.ascontiguousarray(np.array([getattr(self, n) for n in names], dtype=dtype).T)
+        for j, n in enumerate(names):
+            setattr(self, n, cols[:, j])
+            if n in self._PER_TEMPLATE:
+                for f, sl in zip(self.followers, self._slices):
+                    setattr(f, n, cols[sl, j])
+        return cols

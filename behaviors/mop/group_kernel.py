@@ -27,7 +27,7 @@ from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_l
                            members, misfit_size, path_kernel, reversal, rivals, shape_lead,
                            size_probe, size_sums, spotting, tempo, threshold, threshold_kernel,
                            validity)
-from behaviors.mop.compiled import CONTRACT, prefetch
+from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.coverage import RUN_AHEAD
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
@@ -55,8 +55,6 @@ _CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, fresh_refu
                group_steps, holding, invariance, member_spotting, member_validity, members,
                misfit_size, path_kernel, reversal, rivals, shape_lead, size_probe, size_sums,
                spotting, tempo, threshold, threshold_kernel, validity)
-
-FLOATS_AHEAD = 16   # templates ahead whose per-template rows are fetched (two lines)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -91,9 +89,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     first template and template count; ``k_out``: the rows progress, mean_ll, p below (fresh each
     tick). In place: ``floats`` (group_layout.FLOATS), ``flags`` (group_layout.FLAGS), ``misfit``
     (K, 3) sums, ``entries`` and ``best`` (M,: each member's own template index, switched when
-    another leads by the member's margin in nats or it is refused); ``floats`` (len(FLOATS), K),
-    ``flags`` and the members' arrays: one row each (not tuples of arrays: numba types a tuple's
-    arrays one by one at every call, 6.5 -> 4.7 us; nor an argument each: see
+    another leads by the member's margin in nats or it is refused); ``floats`` (K, len(FLOATS))
+    and ``flags``: a column each, the members' arrays: a row each (not tuples of arrays: numba
+    types a tuple's arrays one by one at every call, 6.5 -> 4.7 us; nor an argument each: see
     :func:`members.conclude`). Out per template: progress, recent mean log-likelihood, probability,
     whether its performance began anew; per member: top three by probability (-1 where fewer), the
     largest RMS displacement from the anchor (template units and size), any engaged, all refused,
@@ -110,11 +108,14 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ``thr_means``: the states' means (D, S), the threshold model's in float32. ``shared``,
     ``tempo_x``, ``tempo_g``: as :func:`members.conclude`'s (a barred best's release,
     :mod:`~behaviors.mop.blocked`)."""
-    ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
-    misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
-    drift, drift_run, reached, attempt_from = floats[11], floats[12], floats[13], floats[14]
-    rev_undo, rev_turn, rev_way, rev_age = floats[15], vectors[10], vectors[11], ints[23]
-    rev_at, seat, lags = floats[16], floats[17], floats[LAG0:]
+    # the per-template state: columns of ``floats`` and ``flags`` (a template's state together,
+    # group_layout.FLOATS)
+    ev, rec, rw, num = floats[:, 0], floats[:, 1], floats[:, 2], floats[:, 3]
+    den, size, misfit_w, shape = floats[:, 4], floats[:, 5], floats[:, 6], floats[:, 7]
+    gone, least, judged, drift = floats[:, 8], floats[:, 9], floats[:, 10], floats[:, 11]
+    drift_run, reached, attempt_from = floats[:, 12], floats[:, 13], floats[:, 14]
+    rev_undo, rev_turn, rev_way, rev_age = floats[:, 15], vectors[10], vectors[11], ints[23]
+    rev_at, seat, lags = floats[:, 16], floats[:, 17], floats[:, LAG0:].T
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
     sh_off, barred, freed = ints[2], ints[21], ints[22]
@@ -125,16 +126,14 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                                                         m_floats[3], m_floats[4])
     any_engaged, all_refused, leads_out = m_flags[0], m_flags[1], m_flags[2]
     thr_has_x, rest_out, committed_out = m_flags[3], m_flags[4], m_flags[5]
-    refused, engaged, misshaped = flags[0], flags[1], flags[2]
-    covered, at_hold_end, fresh, seated = flags[3], flags[4], flags[6], flags[7]
+    refused, engaged, misshaped = flags[:, 0], flags[:, 1], flags[:, 2]
+    covered, at_hold_end, fresh, seated = flags[:, 3], flags[:, 4], flags[:, 6], flags[:, 7]
     d = x.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
     sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
     ra0, un0 = MC_ROWS, MC_ROWS + d                 # columns of mc
     flat = means.reshape(-1)   # (prefetch's view of it)
-    per_k = floats.reshape(-1)   # (... and of the per-template rows)
-    n_k = floats.shape[1]
     n_states = means.shape[1]
     u, z, v, away, dx, hq = rows[0], rows[1], rows[2], rows[3], rows[4], rows[5]
     hr, htol, hrad, dxu, tu, tr = rows[6], rows[7], rows[8], rows[9], rows[10], rows[11]
@@ -175,12 +174,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 prefetch_ahead(states, flat, ti, mean, k + AHEAD, before, after, d, n_states)
-            # ... and the 25 rows of ``floats`` two lines ahead (more streams than the processor
-            # follows): update_templates alone, 100 captured ticks of DESIGN's group, load 11-16,
-            # paired -52.2, -16.2 us hot, -82.1, -38.3 cold (of ~800-1300; swapped: +11.6, +10.7)
-            if k % 8 == 0 and k + FLOATS_AHEAD < n_k:
-                for rr in range(floats.shape[0]):
-                    prefetch(per_k, rr * n_k + k + FLOATS_AHEAD)
             t = tc[k]
             start, lk, off = ti[k, 0], ti[k, 1], ti[k, 2]
             # followed state and progress (ActionFollower._finish)

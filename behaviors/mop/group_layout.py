@@ -42,15 +42,23 @@ MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "nu
 #: 691, 749 us, but the tick's median 1990 -> 2025 us in the second pair: not taken.
 AHEAD = 2
 MC_ROWS = len(MEMBER_SCALARS)
-#: Per-template float state updated in place, in this order.
+#: Per-template float state updated in place: the columns of ``floats`` (K, len(FLOATS)), in
+#: this order, so that one template's state is one record (as ``states``' rows and ``tc``'s).
+#: As rows (len(FLOATS), K) the per-template pass read and wrote one column of 25 rows and 8
+#: flag rows, ~40 streams, more than the processor follows (prefetching the 25 rows ahead won
+#: ~44 us of it; the flag rows as well was slower). update_templates alone on 100
+#: captured ticks of DESIGN's group after 48 MB touched (the installation's case), the same
+#: outputs to the bit, paired per round: -162.2, -141.0, -108.9 us (load 11, of ~1430);
+#: -76.6, -103.3, -56.2 and, the sides swapped, -55.7, -67.3, -16.6 (load 6-9, of ~1230);
+#: hot -64.8, -9.6, -8.5 (medians of three rounds).
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
           "_gone", "_least", "_judged", "_drift", "_drift_run", "_reached", "_attempt_from",
           "_rev_undo", "_rev_at", "_seat")
 #: Per-template shape sums at each timing offset (:func:`behaviors.mop.commitment.add_lagged`),
-#: rows of ``floats`` after :data:`FLOATS`'s first ones, from :data:`LAG0`.
+#: columns of ``floats`` after :data:`FLOATS`'s first ones, from :data:`LAG0`.
 SHAPE_LAGS = tuple(f"_shape_lag_{j}" for j in range(2 * COMMIT_LAGS + 1))
 LAG0 = len(FLOATS)
 FLOATS += SHAPE_LAGS
-#: Per-template flags updated in place, in this order.
+#: Per-template flags updated in place: the columns of ``flags`` (K, len(FLAGS)), in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end", "_once", "_fresh",
          "_seated")

@@ -24,9 +24,10 @@ _CALLS_INTO = (behaviors.mop.compiled, commitment)
 _F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
 _I1, _B1, _I2 = numba.intp[::1], numba.boolean[::1], numba.intp[:, ::1]
 _F3 = numba.float64[:, :, ::1]
+_FA1 = numba.float64[:]   # columns of a group's per-template state (group_layout.FLOATS)
 
 
-@compiled(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), *_CALLS_INTO, fastmath=CONTRACT)
+@compiled(numba.void(_F2, _F2, _F2, _F2, _FA1, _F2, _I1, _I1, _F2), *_CALLS_INTO, fastmath=CONTRACT)
 def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
     """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
     forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from
@@ -87,7 +88,7 @@ def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
     out[0], out[1], out[2] = t0, t1, t2
 
 
-@compiled(numba.intp(_F1, numba.intp, numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
+@compiled(numba.intp(_FA1, numba.intp, numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
 def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     """The index of the first largest of ``values[a0:a1]`` (``a0 + np.argmax``)."""
     best = a0

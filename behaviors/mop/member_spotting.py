@@ -23,6 +23,8 @@ from behaviors.kernel_cache import compiled
 _CALLS_INTO = (gesture_end, handover, spotting)
 
 _F1, _I1, _B1 = numba.float64[::1], numba.intp[::1], numba.boolean[::1]
+# columns of a group's per-template state (group_layout.FLOATS)
+_FA1, _BA1 = numba.float64[:], numba.boolean[:]
 
 #: How a member's new attempt starts (:meth:`GestureSpotting._spot`): none; its gesture ended
 #: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
@@ -84,8 +86,8 @@ def finished_short(peak: float, progress: float, crawls: bool) -> bool:
     return peak >= FINISH_FROM and (peak - progress >= FINISH_BACK or (crawls and FINISH_CRAWLS))
 
 
-@compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
-                      _F1, _F1), *_CALLS_INTO)
+@compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _BA1,
+                      _BA1, _F1, _FA1), *_CALLS_INTO)
 def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, refused: np.ndarray,
            misshaped: np.ndarray, progress: np.ndarray, gone: np.ndarray) -> bool:
     """:meth:`GestureSpotting._shares`: whether template ``k`` (group index; its member's

@@ -36,12 +36,13 @@ _CALLS_INTO = (group_layout, halts, handover, overrun, path_kernel, shape_lead, 
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
+_FA1 = numba.float64[:]   # a column of the per-template state (group_layout.FLOATS)
 
 
 @compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
                    _F1, numba.intp, numba.float64, _B1, _F1, numba.float64, _B1, _F1, _F1,
                    numba.float64, _B1, _B1, numba.float64, numba.float64, numba.float64,
-                   _F2, _F1, _F3, _I1, _B1, numba.float64, numba.float64),
+                   _F2, _FA1, _F3, _I1, _B1, numba.float64, numba.float64),
           *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
            mean, turns, step, limit, reach, first_steps, ok, before, unturned, hidden, waits,
@@ -128,7 +129,8 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
     "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
     :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
-    ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
+    ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`, a
+    column each); a take
     refused sizes its template where :func:`~behaviors.mop.take_fit.size_of_refused` finds
     a size (:data:`~behaviors.mop.take_rule.TAKE_RESIZE`). ``shift`` (M, D): each member's
     anchor less where the input came nearest the ended template's last point, the samples read
@@ -143,7 +145,8 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     follower's; called from the strict :func:`~behaviors.mop.members.conclude`, the per-template
     pass (compiled with ``contract``) is left as it was."""
     d = x.shape[1]
-    num, den, size, least = floats[3], floats[4], floats[5], floats[9]   # (group_layout.FLOATS)
+    num, den = floats[:, 3], floats[:, 4]   # (group_layout.FLOATS)
+    size, least = floats[:, 5], floats[:, 9]
     arc = states[:, 2 * d + 1]   # (group_layout.STATE_COLUMNS)
     for i in range(x.shape[0]):
         if not present[i]:
@@ -192,7 +195,7 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
 
 
 @compiled(numba.boolean[::1](_F2, _I2, _F1, _F2, _F2, _F2, _F2, _B1, _B1, _I1, _I1, _I1, _I1,
-                             _F3, _F2, _F2, _F1, _I1, _B1, _F1, _I1, _F1, _F1,
+                             _F3, _F2, _F2, _FA1, _I1, _B1, _F1, _I1, _F1, _F1,
                              numba.float64[:, :]), *_CALLS_INTO)
 def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, at, seen,
              tempo_x, tempo_g, tempo_s, size, overran_k, straight, progress, drive_k,
@@ -301,7 +304,7 @@ def slow_of(i: int, k: int, state: float, x: np.ndarray, past_x: np.ndarray,
                                  tempo_rules.span(samples) if fresh else float(w))
 
 
-@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
+@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _FA1,
                      _F1, numba.float64, _B1, _I2, _I1, _F1, _F2, _F2), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
           at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,

@@ -45,6 +45,7 @@ _CALLS_INTO = (blocked, gesture_end, group_layout, halts, handover, member_buffe
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 _BB2 = numba.boolean[:, ::1]
+_FA1 = numba.float64[:]   # a column of the per-template state (group_layout.FLOATS)
 
 #: Per-member scalars (columns of ``mk`` (M, 14 + 2D), then the rows ``radius`` and ``units``).
 MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep",
@@ -72,17 +73,17 @@ MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
 
 
-@compiled(numba.intp(_F1, numba.float64[:, :], numba.boolean[:, ::1], numba.intp, numba.intp,
+@compiled(numba.intp(_FA1, numba.float64[:, :], numba.boolean[:, ::1], numba.intp, numba.intp,
                      numba.float64, numba.float64), *_CALLS_INTO)
 def committed(shape: np.ndarray, lags: np.ndarray, flags: np.ndarray, a0: int, a1: int,
               samples: float, lead: float) -> int:
     """:meth:`ShapeLead._committed` among templates ``a0..a1`` (group indices; ``flags``:
-    the group's flag rows, refused, engaged, misshaped, covered first), but for the threshold
+    the group's flag columns, refused, engaged, misshaped, covered first), but for the threshold
     model's share: the one committed to by shape, or -1. ``lags``: the shape sums at each timing
-    offset (one row each, :data:`~behaviors.mop.group_layout.SHAPE_LAGS`), whose least is the
+    offset (a row each, :data:`~behaviors.mop.group_layout.SHAPE_LAGS`), whose least is the
     fit :data:`~behaviors.mop.shape_lead.COMMIT_FIT` reads. ``samples``: the shape sums' samples
     times the features; ``lead``: :data:`~behaviors.mop.shape_lead.LEAD` in shape units."""
-    refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
+    refused, engaged, misshaped, covered = flags[:, 0], flags[:, 1], flags[:, 2], flags[:, 3]
     c = -1
     for k in range(a0, a1):
         if (not refused[k] and engaged[k] and covered[k] and not misshaped[k]
@@ -116,13 +117,13 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     probability the templates keep against the threshold model) it reads; ``best`` already
     switched there). The members' own arrays are rows of ``vectors``, ``ints``, ``m_floats``
     and ``m_flags`` (:data:`MEMBER_VECTORS` and the rest), ``size``, ``highest`` and
-    ``drift_run`` rows of ``floats`` and ``progress``, ``mean_ll``, ``p`` of ``k_out``, as in
+    ``drift_run`` columns of ``floats`` and ``progress``, ``mean_ll``, ``p`` of ``k_out``, as in
     :func:`~behaviors.mop.group_kernel.update_templates` (an argument each, their unboxing
     cost more: a no-op of each signature with the group's arguments, dispatched in the tick
     after two view frames, median 12.7-14.5 -> 6.8-7.8 us for this pass's 56 -> 26 arguments,
     15.1-19.1 -> 14.2-14.3 us for update_templates' 49 -> 33). ``states``, ``ti``: as there;
-    ``mean``, ``mom``: the forward's; ``flags``: the group's flag rows (refused, engaged,
-    misshaped, covered first); ``mk``: see
+    ``mean``, ``mom``: the forward's; ``flags``: the group's flag columns (refused,
+    engaged, misshaped, covered first); ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
     each rests (:func:`~behaviors.mop.tempo.resting` over the samples the push keeps,
     measured once by the per-template pass; a member without a sample is put back after the
@@ -148,7 +149,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     ``likely_v`` (M, 3, 2). Rows, not seven arrays and the top three read from Python: the
     tick's Python part read them with ~80 numpy calls (scalar indexing of ``p``, ``progress``
     and ``refused``, row views)."""
-    size = floats[5]
+    size = floats[:, 5]
     # first the gesture's last samples and whether they fit a new best's path, the tempo of a
     # new action and a way back to an abandonment's anchor, last the abandonment's end
     # (member_validity: takes, tempo, unbegun, still_unbegun; ``tc``, ``mc``, ``taken``,
@@ -171,9 +172,10 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     for i in range(present.size):
         if present[i] and m_flags[14, i]:
             m_flags[2, i] = False
-    refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
-    seated = flags[7]
-    highest, drift_run, attempt_from = floats[8], floats[12], floats[14]   # (group_layout.FLOATS)
+    refused, engaged, misshaped, covered = flags[:, 0], flags[:, 1], flags[:, 2], flags[:, 3]
+    seated = flags[:, 7]
+    highest, drift_run = floats[:, 8], floats[:, 12]   # (group_layout.FLOATS)
+    attempt_from = floats[:, 14]
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
     end_near, nearing = vectors[8], m_flags[18]   # (take_rule.TAKE_FROM_NEAREST)
@@ -182,7 +184,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     drive_k, peak_k, restart = ints[10], ints[11], ints[12]
     end_history_n, lagged = ints[16], m_flags[13]
     counts, blocked_n, blocked_k, barred, freed = ints[1], ints[19], ints[20], ints[21], ints[22]
-    once = flags[5]   # (group_layout.FLAGS)
+    once = flags[:, 5]   # (group_layout.FLAGS)
     moving, kept, drive_from, drive_peak, peak = (m_floats[0], m_floats[2], m_floats[5],
                                                   m_floats[6], m_floats[7])
     drive_leapt = m_floats[12]
@@ -222,7 +224,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         # the probability the validity reads: a barred best's share left out (blocked)
         pv = p[gb] * kept[i]
         if barred[i] >= 0 and barred[i] != bi:   # (update_templates: among the others)
-            pv = math.exp(floats[0, gb] - m_floats[13, i]) / m_floats[14, i] * m_floats[15, i]
+            pv = math.exp(floats[gb, 0] - m_floats[13, i]) / m_floats[14, i] * m_floats[15, i]
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and (pv >= m[1] or committed[i]) and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does
@@ -245,7 +247,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             blocked_k[i] = bi
             if counts[i] > 1 and (0 < BLOCKED_SAMPLES <= blocked_n[i]
                                   or (blk and bi == freed[i])) and blocked.lead_of_size(
-                    floats[0], bounds[i], a1, gb, sk, m[12], m[13]):
+                    floats[:, 0], bounds[i], a1, gb, sk, m[12], m[13]):
                 barred[i] = bi
                 once[gb] = True
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)

@@ -43,7 +43,7 @@ from behaviors.kernel_cache import compiled
 RESIZE_JUMP = 1.1
 
 
-@compiled(numba.void(numba.float64[:, ::1], numba.intp, numba.intp, numba.float64[::1]))
+@compiled(numba.void(numba.float64[:, ::1], numba.intp, numba.intp, numba.float64[:]))
 def reread(misfit: np.ndarray, lo: int, hi: int, size: np.ndarray) -> None:
     """Before templates ``lo:hi``'s misfit sums (rows of ``misfit``: ``|u|^2``, ``u.v``,
     ``|v|^2``, the size last read at) take this sample: where ``size`` (template units, one per

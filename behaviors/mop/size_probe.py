@@ -148,8 +148,8 @@ def probe_size(rows: np.ndarray, col: int, first: int, last: int, g: float, r: n
 
 @compiled(numba.void(numba.float64[:, ::1], numba.intp, numba.intp, numba.intp, numba.float64,
                      numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
-                     numba.float64, numba.float64[::1], numba.float64[::1], numba.float64[::1],
-                     numba.float64[::1], numba.float64, numba.intp, numba.boolean))
+                     numba.float64, numba.float64[:], numba.float64[:], numba.float64[:],
+                     numba.float64[:], numba.float64, numba.intp, numba.boolean))
 def take_probe(rows: np.ndarray, col: int, first: int, last: int, g: float, r: np.ndarray,
                probe: np.ndarray, floor2: float, lo: float, hi: float, num: np.ndarray,
                den: np.ndarray, size: np.ndarray, least: np.ndarray, prior: float,

@@ -432,6 +432,25 @@ def test_every_kernel_template_state_is_kept_by_the_group_and_reset_on_a_new_att
         assert name in reset, f"{name} is not reset on a new attempt"
 
 
+def test_one_templates_kernel_state_is_one_record_shared_with_its_follower():
+    """The per-template state the compiled pass updates lies template by template (one record of
+    25 floats, one of 8 flags: group_layout.FLOATS; as rows, ~40 streams cost DESIGN's pass
+    56-162 us cold), each name a view of its column, a follower's of its share of it."""
+    from behaviors.mop.group_layout import FLAGS, FLOATS
+    _, group, _ = _puck_members(np.random.default_rng(5), 2, 4, 20, 2)
+    k = len(group._owner)
+    for whole, names in ((group._floats, FLOATS), (group._flags, FLAGS)):
+        assert whole.shape == (k, len(names)) and whole.flags.c_contiguous
+        for j, name in enumerate(names):
+            view = getattr(group, name)
+            assert view.base is whole and view.strides == (whole.strides[0],)
+            view[1] = 1 - view[1] if view.dtype == bool else view[1] + j + 1.0
+            assert whole[1, j] == view[1]
+            for f, sl in zip(group.followers, group._slices):
+                if name in group._PER_TEMPLATE:
+                    assert np.shares_memory(getattr(f, name), whole[sl, j])
+
+
 def test_a_restarted_member_forgets_its_end_at_the_tempo_as_a_follower_does():
     # ActionFollower._forget and GroupRules._forget_members both forget the driving action's
     # last progress values and whether its end was reached at its tempo (handover.tempo_ended)
