@@ -63,11 +63,11 @@ def _mirrored_line(seed: int, scale: float) -> np.ndarray:
 def _draw(seed: int, scale) -> np.ndarray:
     """The wander at ``scale`` (a number), or the gesture ``scale`` paused (:func:`_paused`) or
     performed there and back (``"back " + name``: ``tests/mop/test_quality.py``'s draw), or
-    the six gestures back to back (``"chain"``, :func:`_chain`), or the line mirrored
-    (``"mirrored line"``, at 1x: :func:`_mirrored_line`)."""
+    the six gestures back to back (``"chain N"``, :func:`_chain`'s first N samples), or the
+    line mirrored (``"mirrored line"``, at 1x: :func:`_mirrored_line`)."""
     from tests.mop.test_quality import _there_and_back
-    if scale == "chain":
-        return _chain(seed)
+    if isinstance(scale, str) and scale.startswith("chain "):
+        return _chain(seed)[:int(scale[6:])]
     if scale == "mirrored line":
         return _mirrored_line(seed, 1.0)
     if isinstance(scale, str) and scale.startswith("back "):
@@ -81,8 +81,9 @@ def _draw(seed: int, scale) -> np.ndarray:
 # (UNJUDGED_AT_REST), seed 4 1.4x 13 / 2 (TAKEN_PERFORMED), seed 2 1x 6 / 22 (EARLY_FIT); the
 # zigzag paused, seed 0 104 / 75 (UNWEIGHED_AT_REST); the wave there and back, seed 1, with the
 # last samples' fit (take_rule.TAKE_MISFIT2, read at each step) lifted in both: 61 / 88
-# (REST_BEHIND); the six gestures back to back, seed 2: 213 / 218 (TEMPO_END_FROM), 213 / 222
-# (ARRIVE_RADIUS), 213 / 214 (shape_lead.LEAD, read at each step); the mirrored line, seed 3
+# (REST_BEHIND); the six gestures back to back, seed 2, its first 60 samples: 19 / 23
+# (TEMPO_END_FROM), 19 / 21 (ARRIVE_RADIUS), its first 210: 102 / 103 (shape_lead.LEAD, read at
+# each step; the whole chain 213 / 218, 222, 214); the mirrored line, seed 3
 # 1x, with the threshold model afresh at an abandonment (threshold.CARRY_LEAD, read at each
 # step) in both: 0 / 18 (RESTED_LIFTS)
 @pytest.mark.parametrize("module, name, value, seed, scale", [
@@ -95,9 +96,9 @@ def _draw(seed: int, scale) -> np.ndarray:
     (validity, "REST_BEHIND", -1.0, 1, "back wave"),
     (validity, "TAKEN_PERFORMED", math.inf, 4, 1.4),
     (coverage, "EARLY_FIT", math.inf, 2, 1.0),
-    (spotting, "TEMPO_END_FROM", 9.0, 2, "chain"),
-    (gesture_end, "ARRIVE_RADIUS", 0.0, 2, "chain"),
-    (shape_lead, "LEAD", 0.0, 2, "chain"),
+    (spotting, "TEMPO_END_FROM", 9.0, 2, "chain 60"),
+    (gesture_end, "ARRIVE_RADIUS", 0.0, 2, "chain 60"),
+    (shape_lead, "LEAD", 0.0, 2, "chain 210"),
     (validity, "RESTED_LIFTS", False, 3, "mirrored line"),
 ])
 def test_a_group_built_with_a_rule_constant_changed_follows_it_as_its_followers_alone(
