@@ -23,7 +23,7 @@ from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.glitch import REACH_AHEAD, REACH_BACK, path_distances
 from behaviors.mop.hmm import TemplateBank, TemplateError
-from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop.shape_lead import RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.group_layout import SHAPE_LAGS
 from behaviors.mop.validity import PATH_REACH
 
@@ -256,12 +256,13 @@ class FollowerGroup(GroupArrays, GroupRules):
         # fresh each tick: the states' maps are views of them
         self._k_out = k_out = np.empty((3, k))
         self._k_progress, self._k_mean_ll, self._k_p = k_out
+        # shape_lead.LEAD read at each step, as the followers read it
         group_kernel.update_templates(
             self._states, self._ti, self._tc, self._mc, self._floats, self._flags, self._misfit,
             self._entries, fw.mean, fw.entries, step_ll, self._m_vectors, self._buf,
             self._m_ints, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
-            LEAD * 2.0 * SHAPE_SPREAD ** 2, k_out, self._k_new, self._m_top3, self._m_floats,
-            self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
+            shape_lead.LEAD * 2.0 * SHAPE_SPREAD ** 2, k_out, self._k_new, self._m_top3,
+            self._m_floats, self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
             self._thr_scratch, self._thr_z, self._thr_lj, self._thr_tops, self._reversal_at,
             self._reversal_tol, self._probe, self._probe_floor2, self._k_rows, self._shared,
             self._tempo_x, self._tempo_g)

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import (coverage, group_layout, members, shape_lead, take_rule, tempo,
-                           threshold, validity)
+from behaviors.mop import (coverage, gesture_end, group_layout, members, shape_lead, spotting,
+                           take_rule, tempo, threshold, validity)
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.take_fit import outwards
 from behaviors.mop.shape_lead import TAKE_SAMPLES
@@ -212,7 +212,10 @@ class GroupArrays:
                    "unweighed_at_rest": lambda f: validity.UNWEIGHED_AT_REST,
                    "rest_behind": lambda f: validity.REST_BEHIND,
                    "taken_performed": lambda f: validity.TAKEN_PERFORMED,
-                   "early_fit2": lambda f: coverage.EARLY_FIT ** 2}
+                   "early_fit2": lambda f: coverage.EARLY_FIT ** 2,
+                   "tempo_end_from": lambda f: spotting.TEMPO_END_FROM,
+                   "arrive_radius": lambda f: gesture_end.ARRIVE_RADIUS,
+                   "rested_lifts": lambda f: validity.RESTED_LIFTS}
         cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])

@@ -17,7 +17,7 @@ STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
 #: ``ufirst``, ``c_off`` of D columns each).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 34 + 2D + L), then the rows ``radius`` and
+#: Per-member scalars (columns of ``mc`` (M, 37 + 2D + L), then the rows ``radius`` and
 #: ``units`` (D each) and :data:`~behaviors.mop.take_rule.TAKE_SIZES` from the estimate outwards
 #: (L); ``threshold`` infinite where a member has no threshold model). The rules' constants
 #: among them are read where the group is built, as the followers' own constants are, so a
@@ -30,13 +30,17 @@ TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
 #: ``unjudged_at_rest``, ``unweighed_at_rest`` (:data:`~behaviors.mop.validity.UNJUDGED_AT_REST`,
 #: ``UNWEIGHED_AT_REST``: 1 or 0), ``rest_behind`` and ``taken_performed``
 #: (:data:`~behaviors.mop.validity.REST_BEHIND`, ``TAKEN_PERFORMED``), ``early_fit2``
-#: (:data:`~behaviors.mop.coverage.EARLY_FIT` squared).
+#: (:data:`~behaviors.mop.coverage.EARLY_FIT` squared), ``tempo_end_from``
+#: (:data:`~behaviors.mop.handover.TEMPO_END_FROM` as :mod:`~behaviors.mop.spotting` imports
+#: it), ``arrive_radius`` (:data:`~behaviors.mop.gesture_end.ARRIVE_RADIUS`) and ``rested_lifts``
+#: (:data:`~behaviors.mop.validity.RESTED_LIFTS`: 1 or 0).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
                   "rejudge_at", "keep", "reversal_move2", "coverage", "take_fit2", "carry_first",
                   "crawl_samples", "crawl_hovers", "unjudged_at_rest", "unweighed_at_rest",
-                  "rest_behind", "taken_performed", "early_fit2")
+                  "rest_behind", "taken_performed", "early_fit2", "tempo_end_from",
+                  "arrive_radius", "rested_lifts")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 #: 4 ahead (DESIGN's tick, alternating processes, load 18-22): update_templates p10 731, 770 ->
 #: 691, 749 us, but the tick's median 1990 -> 2025 us in the second pair: not taken.

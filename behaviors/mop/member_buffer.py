@@ -14,7 +14,7 @@ import numba
 import numpy as np
 
 from behaviors.mop import gesture_end
-from behaviors.mop.gesture_end import ARRIVE_RADIUS, END_GRACE
+from behaviors.mop.gesture_end import END_GRACE
 from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (gesture_end,)   # the files whose constants the kernels take in
@@ -52,11 +52,12 @@ def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.n
     return True
 
 
-@compiled(numba.intp(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
-def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> int:
+@compiled(numba.intp(_F3, _I1, numba.intp, _F1, numba.float64), *_CALLS_INTO)
+def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray, reach: float) -> int:
     """:func:`behaviors.mop.gesture_end.arrived` over member ``i``'s buffered samples (the last the
-    newest): how many before the last lie, with it, within ``ARRIVE_RADIUS radius`` (D,) per
-    column (range), at most ``END_GRACE``."""
+    newest): how many before the last lie, with it, within ``reach radius`` (D,) per column
+    (range; ``reach``: :data:`~behaviors.mop.gesture_end.ARRIVE_RADIUS`, read where the group is
+    built), at most ``END_GRACE``."""
     s = buf.shape[1]
     n = 0
     while n < min(END_GRACE, count[i] - 1):
@@ -66,7 +67,7 @@ def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> i
             for r in range(s - n - 2, s):
                 hi = max(hi, buf[i, r, c])
                 lo = min(lo, buf[i, r, c])
-            if not hi - lo <= ARRIVE_RADIUS * radius[c]:
+            if not hi - lo <= reach * radius[c]:
                 return n
         n += 1
     return n

@@ -387,11 +387,12 @@ def unbegun(abandoned: np.ndarray, present: np.ndarray, x: np.ndarray, anchor: n
             leads[i] = False
 
 
-@compiled(numba.void(_B1, _B1, _B1, _B1), *_CALLS_INTO)
+@compiled(numba.void(_B1, _B1, _B1, _B1, _F2), *_CALLS_INTO)
 def still_unbegun(abandoned: np.ndarray, rested: np.ndarray, rests: np.ndarray,
-                  present: np.ndarray) -> None:
+                  present: np.ndarray, mc: np.ndarray) -> None:
     """:func:`behaviors.mop.validity.still_unbegun` for every ``present`` member, in place: still
-    ``abandoned`` and ``rested`` since, after a sample where it ``rests``. As numpy operations
+    ``abandoned`` and ``rested`` since, after a sample where it ``rests`` (``mc``: the member
+    scalars, :data:`~behaviors.mop.validity.RESTED_LIFTS` at column 36). As numpy operations
     on the present members (three masked reads, six operations, two masked writes) it took
     ~26 us of DESIGN's 8 x 100 templates tick after the per-template pass (4.6 us with its
     code in the caches; about 3 of the 8 performers are abandoned on a tick, so skipping it
@@ -403,7 +404,7 @@ def still_unbegun(abandoned: np.ndarray, rested: np.ndarray, rests: np.ndarray,
         if not present[i]:
             continue
         r = rests[i]
-        lifted = (r and not validity.RESTED_LIFTS) or (rested[i] and not r)
+        lifted = (r and mc[i, 36] == 0.0) or (rested[i] and not r)
         still = abandoned[i] and not lifted
         abandoned[i] = still
         rested[i] = still and r

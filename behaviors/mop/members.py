@@ -25,7 +25,6 @@ from behaviors.mop import (blocked, gesture_end, group_layout, halts, handover, 
                            speed_profile, spotting, take_fit, take_rule, tempo, validity)
 from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
 from behaviors.mop.gesture_end import END_GRACE, RETURN_BACK, RETURN_RADIUS
-from behaviors.mop.handover import TEMPO_END_FROM
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, moved_on, shares,
@@ -323,8 +322,9 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             # its last point
             done = (not has_end[i] and not ended and drive_k[i] == bi
                     and finished_short(drive_peak[i], pb, crawl[i, 0] > 0))
-            # lagging on an eased end the performer went through (handover.tempo_ended)
-            lag = (not has_end[i] and not ended and not done and val and pb >= TEMPO_END_FROM
+            # lagging on an eased end the performer went through (handover.tempo_ended; mc[i, 34]:
+            # handover.TEMPO_END_FROM, group_layout.MEMBER_SCALARS)
+            lag = (not has_end[i] and not ended and not done and val and pb >= mc[i, 34]
                    and member_validity.slowed(buf, nbuf, i, radius) and reached)
             was_end = has_end[i]
             ended = ended or done or lag
@@ -348,8 +348,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 nearing[i] = True
                 has_end[i] = True
                 # the performer had already stopped there: the grace counts from where they
-                # stopped (GestureSpotting._arrived)
-                after_end[i] = arrived(buf, nbuf, i, radius)
+                # stopped (GestureSpotting._arrived; mc[i, 35]: gesture_end.ARRIVE_RADIUS)
+                after_end[i] = arrived(buf, nbuf, i, radius, mc[i, 35])
                 lagged[i] = lag
             elif was_end:
                 near, held, nearest2 = 0.0, 0.0, 0.0   # summed apart, as spotting's sums
@@ -377,7 +377,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             if (UNSEEN_END and not has_end[i] and not has_unseen[i] and drive_k[i] < 0
                     and not val and not refused[gb] and pb >= m[8] and end_history_n[i] > 1
-                    and TEMPO_END_FROM <= end_history[i, end_history.shape[1] - 2] < m[8]):
+                    and mc[i, 34] <= end_history[i, end_history.shape[1] - 2] < m[8]):
                 # GestureSpotting._spot: never recognised, followed to its end: pending there
                 has_unseen[i] = True
                 for c in range(d):
@@ -391,8 +391,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                                                     REANCHOR_RADII))
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
                               any_engaged[i], unseen, off_rest)
-    member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)
-    member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present)
+    member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present, mc)
+    member_validity.still_unbegun(m_flags[14], m_flags[15], rest, present, mc)
     # not shown just before a straight stroke's bend while the input went on straight
     # (bends.unturned: the rules went on as if it were); here rather than as two numpy calls
     # after this pass (see glitch.path_distances for what these fusions saved)

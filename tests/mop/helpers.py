@@ -123,9 +123,10 @@ def solo(follower) -> "FollowerGroup":
     those keep to the follower. Constants read where the follower or the group is built
     (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER, EARLY_FIT,
     shape_lead.TAKE_FIT, take_rule.TAKE_SIZES, validity.CARRY_FIRST, UNJUDGED_AT_REST,
-    UNWEIGHED_AT_REST, REST_BEHIND, TAKEN_PERFORMED, tempo.CRAWL_SAMPLES and CRAWL_HOVERS: patch
-    them before the group is built) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD and bends'
-    (read at each step) reach both."""
+    UNWEIGHED_AT_REST, REST_BEHIND, TAKEN_PERFORMED, RESTED_LIFTS, tempo.CRAWL_SAMPLES and
+    CRAWL_HOVERS, spotting.TEMPO_END_FROM, gesture_end.ARRIVE_RADIUS: patch them before the
+    group is built) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD, shape_lead.LEAD and
+    bends' (read at each step) reach both."""
     from behaviors.mop.group import FollowerGroup
     return FollowerGroup([follower])
 

@@ -89,16 +89,21 @@ def test_the_members_unbegun_rule_decides_as_the_followers_own():
     assert leads[750:1100].all()
 
 
-def test_still_unbegun_of_every_member_equals_the_followers_rule():
+def test_still_unbegun_of_every_member_equals_the_followers_rule(monkeypatch):
     # member_validity.still_unbegun (every present member, in place) against
     # validity.still_unbegun member by member, over every combination of abandoned, rested
-    # since, resting and present; an absent member keeps its state
+    # since, resting and present; an absent member keeps its state; with the ban lifted at the
+    # rest (validity.RESTED_LIFTS, a member scalar) too
     import itertools
-    from behaviors.mop import member_validity, validity
+    from behaviors.mop import group_layout, member_validity, validity
     rows = np.array(list(itertools.product((False, True), repeat=4)), dtype=bool)
     abandoned, rested, rests, present = (np.ascontiguousarray(c) for c in rows.T)
-    got_a, got_r = abandoned.copy(), rested.copy()
-    member_validity.still_unbegun(got_a, got_r, rests, present)
-    for i, (a, r, s, p) in enumerate(rows.tolist()):
-        want = validity.still_unbegun(a, r, s) if p else (a, r)
-        assert (bool(got_a[i]), bool(got_r[i])) == want, (a, r, s, p)
+    for lifts in (True, False):
+        monkeypatch.setattr(validity, "RESTED_LIFTS", lifts)
+        mc = np.zeros((len(rows), group_layout.MC_ROWS))
+        mc[:, group_layout.MEMBER_SCALARS.index("rested_lifts")] = lifts
+        got_a, got_r = abandoned.copy(), rested.copy()
+        member_validity.still_unbegun(got_a, got_r, rests, present, mc)
+        for i, (a, r, s, p) in enumerate(rows.tolist()):
+            want = validity.still_unbegun(a, r, s) if p else (a, r)
+            assert (bool(got_a[i]), bool(got_r[i])) == want, (lifts, a, r, s, p)

@@ -71,15 +71,15 @@ def test_path_limits_default_by_invariance():
     assert shape_limits("scale", 1.5, 1.3) == (1.5, 1.3)
 
 
-def _mirrored_line_rest_valid(gestures, grouped: bool = True) -> int:
+def _mirrored_line_rest_valid(gestures) -> int:
     """Valid ticks in the rest after a mirrored line (out along -x, back), six gestures loaded,
-    five seeds at 0.7, 1.0 and 1.4x; ``grouped``: stepped by a group of one
-    (:func:`~tests.mop.helpers.solo`), else by the follower alone."""
+    five seeds at 0.7, 1.0 and 1.4x, stepped by a group of one
+    (:func:`~tests.mop.helpers.solo`)."""
     mirrored = gestures["line"] * np.array([-1.0, 1.0])
     total = 0
     for seed in (1, 2, 3, 4, 5):
         rng = np.random.default_rng(seed)
-        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
+        f = solo(puck_follower(gestures))
         for scale in (0.7, 1.0, 1.4):
             x, prog = performance(rng, mirrored, scale)
             end = np.flatnonzero(np.isfinite(prog[:, 0]))[-1]
@@ -94,8 +94,8 @@ def test_no_action_is_taken_at_the_rest_after_an_abandoned_turn(gestures, monkey
     # with the threshold model afresh at the abandonment (its lead carried refuses both: 0, 0)
     monkeypatch.setattr(threshold, "CARRY_LEAD", False)   # read at each step
     now = _mirrored_line_rest_valid(gestures)
-    monkeypatch.setattr(validity, "RESTED_LIFTS", False)   # read by the follower alone
-    lifted = _mirrored_line_rest_valid(gestures, grouped=False)
+    monkeypatch.setattr(validity, "RESTED_LIFTS", False)   # (read where the group is built)
+    lifted = _mirrored_line_rest_valid(gestures)
     assert now <= lifted - 35, (now, lifted)
 
 

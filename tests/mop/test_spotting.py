@@ -61,8 +61,8 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
     # with the rule off 32-33, four of 3-4; with the end at the tempo too: 14, none over 2
     from behaviors.mop import gesture_end, spotting
 
-    def late_ticks(grouped: bool = False) -> list[int]:   # (patched: the follower alone)
-        f = solo(puck_follower(gestures)) if grouped else puck_follower(gestures)
+    def late_ticks() -> list[int]:   # (both constants read where the group is built)
+        f = solo(puck_follower(gestures))
         out = []
         for seed in range(4):
             rng = np.random.default_rng(seed)
@@ -73,7 +73,7 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
                     for a, b in zip(order, order[1:])]
         return out
 
-    now = late_ticks(grouped=True)
+    now = late_ticks()
     # the rule measured with the end at the tempo (handover.tempo_ended) left out: it ends some
     # of the same runs (with it and without this rule 25)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)

@@ -4,8 +4,9 @@ came nearest the ended template's last point, by a group as by its followers alo
 
 import numpy as np
 
-from bench.follow_quality import puck_follower, run
+from bench.follow_quality import puck_follower
 from behaviors.mop import take_rule
+from tests.mop.helpers import run, solo
 
 
 def _ended_short_stream() -> tuple[dict, np.ndarray, list, np.ndarray]:
@@ -28,11 +29,12 @@ def test_a_take_after_an_end_is_read_from_where_the_input_came_nearest_it(monkey
     templates, x, truth, prog = _ended_short_stream()
     g = "jump_left_ankle"
 
-    def hits() -> list[float]:
-        states = run(puck_follower(templates), x)
+    def hits(grouped: bool = False) -> list[float]:   # (patched: the follower alone)
+        f = puck_follower(templates)
+        states = run(solo(f) if grouped else f, x)
         return [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
 
-    now = hits()
+    now = hits(grouped=True)   # (equal to the follower alone on this stream, below)
     monkeypatch.setattr(take_rule, "TAKE_FROM_NEAREST", 0.0)
     plain = hits()
     assert now and now[0] <= 0.4 and len(now) >= 40, (now[:1], len(now))

@@ -4,9 +4,9 @@ decides it as its followers alone."""
 
 import numpy as np
 
-from bench.follow_quality import gesture_templates, puck_follower, run
+from bench.follow_quality import gesture_templates, puck_follower
 from behaviors.mop import under_way
-from tests.mop.helpers import group_beside_alone, unrelated_at_1x
+from tests.mop.helpers import group_beside_alone, run, solo, unrelated_at_1x
 
 
 def _spiral_with_the_circle(seed: int = 11) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -21,10 +21,12 @@ def test_no_action_is_taken_in_an_attempt_abandoned_under_way(monkeypatch):
     # swept through the spiral's start at full pace, the new attempt was anchored there and
     # the circle followed the second turn as a circle begun from rest. Measured 0 valid ticks,
     # 36 with the rule off
+    # (a group of one: under_way.underway reads UNDERWAY at each call; equal to the follower
+    # alone on this spiral either way, 0 and 36 valid ticks)
     circle, x = _spiral_with_the_circle()
-    now = sum(s.valid for s in run(puck_follower(circle), x))
+    now = sum(s.valid for s in run(solo(puck_follower(circle)), x))
     monkeypatch.setattr(under_way, "UNDERWAY", 0.0)
-    off = sum(s.valid for s in run(puck_follower(circle), x))
+    off = sum(s.valid for s in run(solo(puck_follower(circle)), x))
     assert now <= 5 and off >= now + 25, (now, off)
 
 
