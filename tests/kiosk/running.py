@@ -86,17 +86,21 @@ def ticked_with_edits(inst: Any, clock: Any, ticks: int, edits: dict[int, tuple[
 
 
 @contextmanager
-def running(inst: Any, seconds: float, run_out: bool = False) -> Iterator[None]:
-    """``inst``'s loop run for at most ``seconds`` in a thread while the block runs; after the
-    block the loop is stopped (``run_out``: left to run its ``seconds`` out, so its recording
-    holds all of them) and the thread joined (30 s at most)."""
-    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": seconds})
+def running(inst: Any, seconds: float, run_out: bool = False,
+            ticks: int | None = None) -> Iterator[None]:
+    """``inst``'s loop run for at most ``seconds`` (and ``ticks`` ticks) in a thread while the
+    block runs; after the block the loop is stopped (``run_out``: left to run out, so its
+    recording holds all of them) and the thread joined (30 s at most, ``seconds`` when run
+    out). A run that must hold some frames counts ticks: a loaded machine skips the slots of
+    late ticks (a 2 s kiosk run at 30 Hz made 19 frames at load 14-16 on 2 cores), and
+    ``seconds`` then only ends a loop that hangs."""
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": seconds, "max_ticks": ticks})
     th.start()
     try:
         yield
     finally:
         if run_out:
-            th.join(30)
+            th.join(max(30.0, seconds))
         inst.loop.stop.set()
         th.join(30)
 

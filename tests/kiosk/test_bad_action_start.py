@@ -106,7 +106,7 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     assert sum("starts without the action" in r.getMessage() for r in caplog.records) == 3
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
-    with running(inst, 2, run_out=True):
+    with running(inst, 300, ticks=60, run_out=True):   # 2 s of a quiet machine's ticks
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
         listed = status(tmp_path)["behavior_errors"]
         assert listed == [f"mop: {e}" for e in errors]
@@ -134,8 +134,9 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
 
 
 def _recorded_renamed(tmp_path: Path, names: dict[str, str]) -> Path:
-    """The recording of half a second of a kiosk started on :func:`_config` corrupted, its
-    characters and actions renamed (old name -> new)."""
+    """The recording of 15 ticks (half a second quiet; ticks, not seconds: a loaded machine
+    made 5 or fewer in 0.5 s) of a kiosk started on :func:`_config` corrupted, its characters and
+    actions renamed (old name -> new)."""
     cfg_path = _config(tmp_path)
     text = cfg_path.read_text()
     for old, new in names.items():
@@ -143,7 +144,7 @@ def _recorded_renamed(tmp_path: Path, names: dict[str, str]) -> Path:
     cfg_path.write_text(text)
     _corrupt(tmp_path)
     session = tmp_path / "session.jsonl"
-    kiosk_built(cfg_path, record_path=session)[0].loop.run(seconds=0.5)
+    kiosk_built(cfg_path, record_path=session)[0].loop.run(seconds=300, max_ticks=15)
     return session
 
 
