@@ -124,6 +124,19 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
 - Size probes, as GVF's particles of several scales: kept only for the best template while
   no action drives, to a smaller size; what was measured, kept and not, is in
   :mod:`behaviors.mop.size_probe`.
+- Measured and not kept, the sums taken not at the followed state but at the state within W
+  states of it (steps of 0.25) whose place from the template's start fits the input closest at
+  any size (least ``|r|^2 - (q . r)^2 / (q . q)``; the followed state where all fit alike, as
+  along a straight stroke). ``bench/follow_seeds.py --sections=sized,unrelated,sequences``,
+  held-out 101-106 / 107-112, W 0.5: sized valid after 30% mean 0.9131 -> 0.9165 / 0.9109 ->
+  0.9163, progress RMSE lower on every seed, but unrelated valid worst 0.0974 -> 0.1002 (103),
+  told mean 0.0449 -> 0.0553 (105 0.048 -> 0.088), own-stroke told worst 0.0952 -> 0.1311 (112
+  0.056 -> 0.131): a rival reads through its own lag as well and fits a stroke not its own. W
+  1: sized mean 0.9109 -> 0.9106 (111 0.9025 -> 0.8948), 108's twenty wrong run 3 -> 4. Nor is
+  the true template's size what lets a narrower one drive on its eased first arc: 108's 1.2x
+  circle given its drawn size is followed on its truth, its shape sum a third of the spin
+  wrist's, yet the spin drives 6 ticks instead of 3, the circle's evidence paying its Jacobian
+  and 2 log 1.2 a sample more than its better fit gains (:mod:`behaviors.mop.recognition`).
 
 One size per template, the same in every column: a performer's redraw that is taller than wide
 (``bench/follow_shapes.py``) is followed only as far as the misfit allows. Measured and not
