@@ -148,6 +148,7 @@ class LineSplitter:
         self._buf = bytearray()
         self._skipping = False
         self.overlong = 0
+        self.overlong_upto = 0   # the last feed's bytes up to the end of its last overlong line
 
     def unfinished_is_ascii(self) -> bool:
         """Whether the unfinished line held so far is ASCII (empty: True)."""
@@ -157,6 +158,7 @@ class LineSplitter:
         """The lines that ``data`` completes (without their ``\n``; a ``\r`` before it kept)."""
         lines = []
         start = 0
+        self.overlong_upto = 0
         while True:
             nl = data.find(b"\n", start)
             if nl < 0:
@@ -168,8 +170,10 @@ class LineSplitter:
                     lines.append(line)
                 else:
                     self.overlong += 1
+                    self.overlong_upto = nl
             elif not self._skipping:
                 self.overlong += 1
+                self.overlong_upto = nl
             self._buf.clear()
             self._skipping = False
             start = nl + 1
@@ -177,6 +181,7 @@ class LineSplitter:
         if not self._skipping:
             if len(self._buf) + len(rest) > self.max_line + 1:  # room for the \r of \r\n
                 self.overlong += 1
+                self.overlong_upto = len(data)
                 self._skipping = True
                 self._buf.clear()
             else:
@@ -346,9 +351,12 @@ class SerialInput(BackgroundSource):
             if splitter.overlong > overlong:   # (firmware ending lines with \r alone:
                 # every line ran into the next, and "line over 1024 bytes" was all it said).
                 # Not noise: judged on the whole overlong line, the reads held before this one
-                # too (this read alone could be a plain stretch of line noise)
+                # too (this read alone could be a plain stretch of line noise), and on this
+                # read up to that line's end only (a \r of the next line's noise, read with it,
+                # asked about an overlong line of plain text: the chunking of the reads)
+                own = data[:splitter.overlong_upto]
                 alone = " (lines ending in \\r alone? end them with \\n or \\r\\n)" \
-                    if held_ascii and data.isascii() and BARE_CR.search(data) else ""
+                    if held_ascii and own.isascii() and BARE_CR.search(own) else ""
                 self.bad.count("overlong", f"line over {MAX_LINE} bytes{alone}",
                                splitter.overlong - overlong)
             if lines:

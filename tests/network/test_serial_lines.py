@@ -69,6 +69,19 @@ def test_the_splitter_holds_at_most_one_line_and_skips_overlong_ones():
     assert s.overlong == 2
 
 
+def test_the_splitter_marks_where_a_read_s_last_overlong_line_ends():
+    """The bytes of a read that the "lines ending in \\r alone?" question is asked of: up to the
+    end of its overlong line (not the next line's, read with it: a \\r there asked it about a
+    plain overlong line when the reads were chunked so), the whole read where the line runs on."""
+    s = LineSplitter()
+    data = b"x" * (MAX_LINE + 10) + b"\n" + b"puck 1\r0.5 0.4"
+    assert s.feed(data) == [] and s.overlong == 1
+    assert s.overlong_upto == MAX_LINE + 10 and b"\r" not in data[:s.overlong_upto]
+    assert s.feed(b"lift 1\n") == [b"puck 1\r0.5 0.4lift 1"] and s.overlong_upto == 0
+    running = b"puck 1 0.5 0.4 0\r" * 80                  # \r alone: one line for ever
+    assert s.feed(running) == [] and s.overlong == 2 and s.overlong_upto == len(running)
+
+
 @pytest.mark.parametrize("ending", [b"\n", b"\r\n"])
 def test_a_line_of_exactly_max_line_bytes_passes_with_either_ending(ending):
     """DESIGN: at most 1024 bytes a line, ended by \\n or \\r\\n (an Arduino's println
@@ -212,3 +225,16 @@ def test_line_noise_read_in_parts_is_not_asked_about_its_line_endings(caplog):
         src.close()
     said = [r.getMessage() for r in caplog.records if "noise-in-parts: ignored" in r.getMessage()]
     assert len(said) == 1 and "alone?" not in said[0], said
+
+
+def test_an_overlong_line_is_not_asked_about_a_cr_of_the_next_line_read_with_it(caplog):
+    """An overlong line of plain text, then the start of a line with a \\r in it, written at
+    once to a real terminal (read together): "line over 1024 bytes", without the question
+    about lines ending in \\r alone, which is about the overlong line's own bytes."""
+    caplog.set_level("WARNING", logger="tabletop")
+    with tracked_pty(0.3) as (master, src, _):
+        os.write(master, b"x" * (MAX_LINE + 10) + b"\npuck 1\r0.5 0.4 0")
+        assert wait_for(lambda: src.bad.counts().get("overlong", 0) >= 1, 5.0)
+    said = [r.getMessage() for r in caplog.records if "ignored overlong" in r.getMessage()]
+    assert len(said) == 1 and "line over 1024 bytes" in said[0], said
+    assert "alone?" not in said[0], said
