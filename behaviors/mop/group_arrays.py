@@ -270,14 +270,11 @@ class GroupArrays:
         self._m_bools = self._rows(members.MEMBER_BOOLS, bool)
 
     def _rows(self, names: tuple[str, ...], dtype: type) -> np.ndarray:
-        """The arrays ``names`` (K,) or (M, ...) as the rows of one array (len(names), ...):
-        each name (and the members' share of a per-template one) becomes a view of its row."""
+        """The members' arrays ``names`` (M, ...) as the rows of one array (len(names), M, ...):
+        each name becomes a view of its row (the per-template state: :meth:`_columns`)."""
         rows = np.array([getattr(self, n) for n in names], dtype=dtype)
         for n, row in zip(names, rows):
             setattr(self, n, row)
-            if n in self._PER_TEMPLATE:
-                for f, sl in zip(self.followers, self._slices):
-                    setattr(f, n, row[sl])
         return rows
 
     def _columns(self, names: tuple[str, ...], dtype: type) -> np.ndarray:
