@@ -26,14 +26,26 @@ class FitError(ValueError):
 def apply_homography(H: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Map points (N, 2) through the 3x3 homography ``H``; returns (N, 2) floats."""
     p = np.asarray(points, dtype=float).reshape(-1, 2)
-    H = np.asarray(H, float)
-    x, y = p[:, 0], p[:, 1]
-    # Component by component: a (N, 2) @ (2, 3) product takes a slow path for large N.
-    w = H[2, 0] * x + H[2, 1] * y + H[2, 2]
     out = np.empty_like(p)
-    out[:, 0] = (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w
-    out[:, 1] = (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w
+    out[:, 0], out[:, 1] = homography_columns(np.asarray(H, float), p[:, 0], p[:, 1])
     return out
+
+
+def homography_columns(H: np.ndarray, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The points (``x``, ``y``: float64 (N,) each) mapped through the 3x3 homography ``H``: the
+    mapped x and y (N,). Component by component: a (N, 2) @ (2, 3) product takes a slow path
+    for large N; and on contiguous columns no (N, 2) copy is made (a lens view's 1.2 M samples)."""
+    w = H[2, 0] * x
+    w += H[2, 1] * y
+    w += H[2, 2]
+    out = []
+    for row in (0, 1):
+        m = H[row, 0] * x
+        m += H[row, 1] * y
+        m += H[row, 2]
+        m /= w
+        out.append(m)
+    return out[0], out[1]
 
 
 def normalised(H: np.ndarray) -> np.ndarray:

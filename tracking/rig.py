@@ -18,7 +18,7 @@ from typing import Sequence
 import cv2
 import numpy as np
 
-from calibration.transforms import apply_homography, inverse, normalised
+from calibration.transforms import apply_homography, homography_columns, inverse, normalised
 from tracking.synthetic import CameraSettings, Pose, SyntheticCamera
 
 
@@ -161,7 +161,8 @@ class LensRenderer:
         R = cv2.Rodrigues(np.asarray(rvec, float))[0]
         H = self.K @ np.column_stack([R[:, 0], R[:, 1], np.asarray(tvec, float).ravel()]) @ S
         n = self.n
-        map_x, map_y = self._texels(np.linalg.inv(H))
+        map_x, map_y = (m.astype(np.float32)
+                        for m in homography_columns(np.linalg.inv(H), self.ideal_x, self.ideal_y))
         paper = texture.astype(np.float32) * (200.0 / 255.0) + 30.0
         img = cv2.remap(paper, map_x.reshape(h * n, w * n), map_y.reshape(h * n, w * n),
                         cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=90.0)
@@ -172,23 +173,6 @@ class LensRenderer:
         if self.noise_sigma > 0:
             img = img + self.rng.normal(0.0, self.noise_sigma, img.shape).astype(np.float32)
         return np.clip(img, 0, 255).astype(np.uint8)
-
-    def _texels(self, H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The sample points mapped through ``H`` (camera -> texture pixels): x and y maps
-        (float32), computed as :func:`apply_homography` computes them."""
-        x, y = self.ideal_x, self.ideal_y
-        w = H[2, 0] * x
-        w += H[2, 1] * y
-        w += H[2, 2]
-        out = []
-        for row in (0, 1):
-            m = H[row, 0] * x
-            m += H[row, 1] * y
-            m += H[row, 2]
-            m /= w
-            out.append(m.astype(np.float32))
-        return out[0], out[1]
-
 
 def pixel_means(samples: np.ndarray, n: int) -> np.ndarray:
     """Each pixel's mean of its ``n`` x ``n`` samples (float32, (H n, W n) -> (H, W))."""

@@ -1,11 +1,11 @@
 """The lens renderer's boards: its texture maps and its 2x2 pixel means are the plain
-formulas' (apply_homography, numpy's mean) to the bit, so a faster form never moves the
+formulas' (a homography written out, numpy's mean) to the bit, so a faster form never moves the
 rendered views the lens tests and bench/calibration solve."""
 
 import cv2
 import numpy as np
 
-from calibration.transforms import apply_homography
+from calibration.transforms import apply_homography, homography_columns
 from tracking.rig import LensRenderer, lens_camera, pixel_means
 
 
@@ -21,10 +21,14 @@ def test_a_board_view_is_the_plain_formulas_view_to_the_bit():
     R = cv2.Rodrigues(rvec)[0]
     H = np.linalg.inv(K @ np.column_stack([R[:, 0], R[:, 1], tvec]) @ S)
 
-    ideal = np.column_stack([r.ideal_x, r.ideal_y])
-    plain = apply_homography(H, ideal).astype(np.float32)
-    map_x, map_y = r._texels(H)
-    assert np.array_equal(map_x, plain[:, 0]) and np.array_equal(map_y, plain[:, 1])
+    x, y = r.ideal_x, r.ideal_y
+    w_ = H[2, 0] * x + H[2, 1] * y + H[2, 2]
+    written = np.column_stack([(H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w_,
+                               (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w_])
+    assert np.array_equal(apply_homography(H, np.column_stack([x, y])), written)
+    map_x, map_y = homography_columns(H, x, y)   # (the renderer's, on its contiguous columns)
+    assert np.array_equal(map_x, written[:, 0]) and np.array_equal(map_y, written[:, 1])
+    plain = written.astype(np.float32)
 
     w, h = size
     paper = texture.astype(np.float32) * (200.0 / 255.0) + 30.0
