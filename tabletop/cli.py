@@ -305,7 +305,7 @@ def _empty_argument(command: argparse.ArgumentParser, words: list[str]) -> str |
 
 
 def _main(words: list[str]) -> int:
-    from tabletop.frames import InputError  # (numpy: here, where a Ctrl-C is caught)
+    from tabletop.errors import InputError
 
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     # OpenCV's own "[ WARN:0@...]" lines (a missing camera, a video back-end probing) are not for

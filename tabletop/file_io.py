@@ -18,7 +18,7 @@ from pathlib import Path
 from contextlib import contextmanager, suppress
 from typing import IO, Any, Iterator, Mapping
 
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 
 class FileFormatError(InputError):

@@ -4,8 +4,8 @@ Units (see DESIGN.md): table metres (origin at calibrated corner 0, x along the 
 the short edge), angles in radians counter-clockwise from +x wrapped to (-pi, pi], time in seconds
 from ``time.monotonic()``. Image and projector pixels are x right, y down.
 
-This module imports nothing else of the project; ``tracking``, ``calibration`` and ``behaviors``
-may import it.
+This module imports nothing else of the project but :class:`~tabletop.errors.InputError` (kept
+numpy-free there); ``tracking``, ``calibration`` and ``behaviors`` may import it.
 """
 
 from __future__ import annotations
@@ -18,6 +18,8 @@ from typing import Literal, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
+from tabletop.errors import InputError  # noqa: F401  (every layer imports it from here too)
+
 PuckState = Literal["seen", "coasting"]
 
 MAX_POSITION_M = 1000.0   # m: no table position is further from the origin; a demonstration
@@ -27,14 +29,6 @@ MAX_FEATURE = 1e100       # largest magnitude of a followed feature (a stream's 
 # known units): the action follower squares and sums differences over its window; one sample of
 # 1e160 made its probabilities NaN and then stopped 'tabletop follow' with an IndexError (1e150
 # and less followed on; a window of 1e100 samples squared stays far within float64)
-
-
-class InputError(ValueError):
-    """Bad input from outside (a file, a packet, a CLI argument, a config value).
-
-    Every layer raises a subclass of this with a message that names what is wrong and where; the
-    command line turns it into one line on stderr and a non-zero exit.
-    """
 
 
 def wrap_angle(a: float) -> float:

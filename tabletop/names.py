@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Callable, TypeVar
 
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 T = TypeVar("T")
 NAME_TRIES = 100     # refusals before a keep gives up (each one a name another run just took)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 
 class ConfigError(InputError):

@@ -8,9 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
-import numpy as np
-
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 
 class ParameterError(InputError):
@@ -197,6 +195,7 @@ class Params:
 
     def check(self) -> None:
         """Raise ParameterError for a value out of range."""
+        import numpy as np   # (here: ``tabletop behave --help`` lists the defaults without it)
         ints = {"window": 2, "smooth": 1, "detail_levels": 1, "patch": 1, "share_window": 1}
         if isinstance(self.detail_levels, (int, np.integer)) and self.detail_levels > 10:
             raise ParameterError(f"behaviour parameter detail_levels: {self.detail_levels!r} "

@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 from typing import Iterable, Sequence
 
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 
 def positive_number(text: str, option: str, unit: str,

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from tabletop.commands import behave_fidelity
 from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
                                thousandths_hint, warn_sparse_times)
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 if TYPE_CHECKING:
     import numpy as np

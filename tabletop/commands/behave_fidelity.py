@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tabletop.commands import number_in_range
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 if TYPE_CHECKING:
     import numpy as np

@@ -11,13 +11,15 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
+import math
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from tabletop.commands import positive_number
-from tabletop.frames import InputError
+from tabletop.errors import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 HELP = ("calibrate an installation: print the board, solve the camera lens, fit the table and "
         "the projector, and check that crosses land under the pucks")
@@ -150,7 +152,7 @@ def parse_marker(text: str) -> tuple[int, float, float]:
         marker_id = int(mid)
     except ValueError:
         raise CalibrateError(usage) from None
-    if marker_id < 0 or not (np.isfinite(x) and np.isfinite(y)):
+    if marker_id < 0 or not (math.isfinite(x) and math.isfinite(y)):
         raise CalibrateError(usage)
     return marker_id, x, y
 
@@ -310,6 +312,8 @@ def camera_main(args: argparse.Namespace) -> int:
 
 
 def table_main(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from calibration.fits import MAX_TABLE_MM, diagonal_centres, fit_handedness, fit_table
     from calibration.transforms import FitError, undistort_pixels
     from tracking.markers import DetectorSettings, detect_markers, make_detector, refine_corners
@@ -389,6 +393,8 @@ def pattern_main(args: argparse.Namespace) -> int:
 
 
 def projector_main(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from calibration.fits import MAX_PROJECTOR_MM
     from tabletop.procam import fit_projector_images, live_projector
     cal = load_existing(args.calibration)

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Sequence
 
 from tabletop.commands import number_in_range, output_file
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 if TYPE_CHECKING:
     import numpy as np

@@ -14,13 +14,13 @@ import json
 import math
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from tabletop.commands import (number_in_range, number_pair, output_file, sparse_hint,
                                thousandths_hint, warn_sparse_times)
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 
 if TYPE_CHECKING:
+    import numpy as np
+
     from behaviors.touch_pose.engine import TouchPose
 
 HELP = ("drive a touch-posed humanoid (posing, actions, tracking) from recorded touches, or "
@@ -80,6 +80,8 @@ MAX_ID = 2**53 - 1
 
 def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]]:
     """Input frames [(t, {id: (x, y)})] from TOUCHES.csv; one clear error for bad rows."""
+    import numpy as np
+
     from tabletop.files import check_positions, read_csv_lines
     header, data, lines = read_csv_lines(path, TOUCH_COLUMNS, what="touches CSV", min_rows=1)
     # a finger beyond frames.MAX_POSITION_M (1e200 m made every later joint NaN) is refused

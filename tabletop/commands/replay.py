@@ -16,11 +16,14 @@ import itertools
 import math
 import os
 from pathlib import Path
-from typing import Iterator
+from typing import TYPE_CHECKING, Iterator
 
 from tabletop.cli import EXIT_INTERRUPTED, EXIT_RECORDING_FAILED, one_line
 from tabletop.commands import output_file
-from tabletop.frames import Frame, InputError
+from tabletop.errors import InputError
+
+if TYPE_CHECKING:
+    from tabletop.frames import Frame
 
 HELP = "replay a session recording (JSON Lines) through the engines and the view"
 

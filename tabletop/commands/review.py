@@ -18,7 +18,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def main(args: argparse.Namespace) -> int:
     from tabletop.commands import number_in_range, png_output
-    from tabletop.frames import InputError
+    from tabletop.errors import InputError
     from tabletop.studio.review import contact_sheet
     # (a text, as every command's numbers: argparse's int said "invalid int value: ''")
     columns = int(number_in_range(args.columns, "--columns", "sheets per row", 1, 1e6,

@@ -55,7 +55,7 @@ def main(args: argparse.Namespace) -> int:
                     else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
     if args.no_supervisor and not kiosk:   # it says where a kiosk's loop runs, nothing else
-        from tabletop.frames import InputError
+        from tabletop.errors import InputError
         raise InputError(f"--no-supervisor is for a kiosk: add --kiosk (or kiosk.enabled: "
                          f"true in {args.config})")
     if kiosk:   # no kiosk file may write over the config, nor two of them be one, nor the

@@ -26,7 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def parse_address(text: str) -> tuple[str, int]:
     """``HOST:PORT`` -> (host, port); an IPv6 address in brackets (``[::1]:9000``)."""
-    from tabletop.frames import InputError
+    from tabletop.errors import InputError
     from tabletop.resolve import host_port
     try:
         return host_port(text)
@@ -145,7 +145,7 @@ def main(args: argparse.Namespace) -> int:
 
     from tabletop.commands import number_in_range
     from tabletop.commands.run import MAX_SECONDS
-    from tabletop.frames import InputError
+    from tabletop.errors import InputError
     from tabletop.resolve import shown_host_port
     from tracking.badinput import LogGaps
     from tracking.osc_codec import OscError

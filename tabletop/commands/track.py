@@ -20,11 +20,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Iterator
 
 from tabletop.commands import number_in_range, output_file
-from tabletop.files import atomic_writer
-from tabletop.frames import InputError, Puck
+from tabletop.errors import InputError
 
 if TYPE_CHECKING:
     import numpy as np
+
+    from tabletop.frames import Puck
 
 HELP = ("detect and track marker pucks in every frame of a video file, an image folder or a "
         "camera, writing one JSON line of puck poses per frame")
@@ -278,6 +279,7 @@ def check_size(calibration: Any, grey: np.ndarray, args: argparse.Namespace) -> 
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from tabletop.files import atomic_writer
     from tabletop.plugins import tracking as plugin
     from tracking.markers import marker_measurements, marker_side_lengths
     from tracking.pucks import PuckTracker

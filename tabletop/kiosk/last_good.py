@@ -19,7 +19,7 @@ from typing import Any
 import yaml
 
 from tabletop.files import atomic_write_text
-from tabletop.frames import InputError
+from tabletop.errors import InputError
 from tabletop.kiosk.paths import last_good_path as path_of
 
 log = logging.getLogger("tabletop")

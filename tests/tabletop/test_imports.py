@@ -71,10 +71,12 @@ def test_no_import_cycles():
 def layer_breaks() -> list[str]:
     """DESIGN.md's layers: ``tabletop.frames`` and ``tabletop.files`` (with its parts
     ``tabletop.file_io`` and ``tabletop.names``) import nothing of the project but each
-    other (the files' errors are the vocabulary's ``InputError``); ``tracking``,
+    other (the files' errors are the vocabulary's ``InputError``, kept numpy-free in
+    ``tabletop.errors``); ``tracking``,
     ``calibration`` and ``behaviors`` import those and nothing of each other but ``tracking``
     using ``calibration``; only ``tabletop`` wires everything."""
-    shared = {"tabletop.frames", "tabletop.files", "tabletop.file_io", "tabletop.names"}
+    shared = {"tabletop.frames", "tabletop.errors", "tabletop.files", "tabletop.file_io",
+              "tabletop.names"}
     allowed = {"tracking": {"tracking", "calibration"}, "calibration": {"calibration"},
                "behaviors": {"behaviors"}}
     breaks = []
