@@ -105,7 +105,7 @@ class CaptureWindow:
         import cv2
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
-        from tabletop.view import headless_needed, start_display, window_size
+        from tabletop.display import headless_needed, start_display, window_size
         if headless_needed(False):
             raise CalibrationInputError(f"no display: the live camera calibration needs a screen "
                                         f"(or {WITHOUT_WINDOW})")

@@ -280,7 +280,7 @@ class LiveProCam:
         import cv2
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
-        from tabletop.view import headless_needed, start_display
+        from tabletop.display import headless_needed, start_display
         if headless_needed(False):
             raise CalibrationInputError("no display: the live projector steps need the "
                                         "projector connected as a display")

@@ -31,7 +31,11 @@ from calibration.transforms import apply_homography  # noqa: E402
 from tabletop.drawing import screens  # noqa: E402
 from tabletop.drawing.light import HINT_SHOWN  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
-from tabletop.frames import Frame, InputError  # noqa: E402
+# the display's start and checks, importable from here too
+from tabletop.display import (WITHOUT_WINDOW, check_display, check_driver,  # noqa: E402,F401
+                              direct_framebuffer, headless_needed, init_display, start_display,
+                              start_view_display, window_size)
+from tabletop.frames import Frame  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.loop_stats import LABELS  # noqa: E402
 # the renderer and the table mapping, importable from here too (tests, benches)
@@ -42,8 +46,6 @@ from tabletop.table_map import TableToScreen  # noqa: E402,F401
 log = logging.getLogger("tabletop")
 
 OVERLAY_REFRESH_S = 0.25
-# what to do when the display cannot be opened (check_driver), said for the projector view
-WITHOUT_WINDOW = "run without a window (--headless or view.headless)"
 OVERLAY_SLICE_S = 0.0005   # the overlay's refresh work per frame: its ~2 ms spread over frames
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
@@ -134,59 +136,6 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
     yield lines
 
 
-def direct_framebuffer() -> None:
-    """On X11, present the window's pixels straight to the X server (shared-memory images)
-    rather than through SDL's default texture framebuffer, which uploads every frame into an
-    OpenGL texture: without a GPU (Mesa's software OpenGL, Xvfb) that costs 15-30 ms per
-    present, straight it costs under 1 ms (bench/view.py). Other video drivers keep SDL's
-    choice (Wayland has no straight way); ``SDL_FRAMEBUFFER_ACCELERATION`` set by the operator
-    wins. Call after ``pygame.display.init`` and before the window opens."""
-    if pygame.display.get_driver() == "x11":
-        os.environ.setdefault("SDL_FRAMEBUFFER_ACCELERATION", "0")
-
-
-def init_display(headless: bool) -> None:
-    """``pygame.display.init``; where only an X display is named, SDL tries X11 and then its
-    offscreen driver (which :func:`check_driver` refuses) and no Wayland: probing Wayland when
-    X cannot be opened, libwayland printed "error: XDG_RUNTIME_DIR is invalid or not set in
-    the environment." above the refusal under a system service (which has no runtime folder).
-    An SDL that takes no list of drivers keeps its own order."""
-    env = os.environ
-    if headless or env.get("SDL_VIDEODRIVER") or env.get("WAYLAND_DISPLAY") \
-            or not env.get("DISPLAY"):
-        pygame.display.init()
-        return
-    env["SDL_VIDEODRIVER"] = "x11,offscreen"
-    try:
-        pygame.display.init()
-    except pygame.error:
-        env.pop("SDL_VIDEODRIVER", None)
-        pygame.display.init()
-    finally:
-        env.pop("SDL_VIDEODRIVER", None)
-
-
-def start_display(headless: bool, instead: str = WITHOUT_WINDOW) -> None:
-    """The display every window of the program opens on (the projector view, the live
-    calibration windows): :func:`init_display`; with a window, a display named but not there
-    refused in one line (:func:`check_driver`, ``instead`` saying what to do without one);
-    then :func:`direct_framebuffer`."""
-    init_display(headless)
-    if not headless:
-        check_driver(instead)
-    direct_framebuffer()
-
-
-def headless_needed(force: bool) -> bool:
-    """True when the view must use SDL's dummy driver: forced, or no display to open."""
-    if force:
-        return True
-    if os.environ.get("SDL_VIDEODRIVER"):
-        return os.environ["SDL_VIDEODRIVER"] in ("dummy", "offscreen")
-    return not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-                or os.name == "nt" or os.uname().sysname == "Darwin")
-
-
 class ProjectorView:
     """Sink: the window (or headless display), key commands, overlay and snapshots."""
 
@@ -201,12 +150,9 @@ class ProjectorView:
         self.name = name
         self.stats, self.commands, self.stop = stats, commands, stop
         asked = headless or options["headless"]
-        self.headless = headless_needed(asked)
+        self.headless = start_view_display(asked)
         self._headless_why = ("as asked (--headless or view.headless)" if asked
                               else "as there is no display (DISPLAY is not set)")
-        if self.headless:
-            os.environ["SDL_VIDEODRIVER"] = "dummy"
-        start_display(self.headless)
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
         display = 0 if self.headless else check_display(options["display"])
@@ -385,14 +331,6 @@ class ProjectorView:
         pygame.display.quit()
 
 
-def window_size(size: tuple[int, int], desktop: tuple[int, int]) -> tuple[int, int]:
-    """The window to open for ``view.size`` on a desktop of ``desktop`` pixels: ``size``, or,
-    when it does not fit (a 1280x720 view on an 800x600 screen would show only its middle, the
-    table's edges and pucks near them beyond the screen), the largest of its shape that does."""
-    k = min(1.0, desktop[0] / size[0], desktop[1] / size[1])
-    return size if k >= 1.0 else (max(1, int(size[0] * k)), max(1, int(size[1] * k)))
-
-
 def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
                       given: tuple[int, int]) -> np.ndarray | None:
     """``table_to_projector`` (pixels of ``asked``, the projector size it was fitted at) for a
@@ -403,29 +341,3 @@ def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
         return None
     sx, sy = given[0] / asked[0], given[1] / asked[1]
     return np.diag([sx, sy, 1.0]) @ np.asarray(homography, dtype=float)
-
-
-def check_driver(instead: str = WITHOUT_WINDOW) -> None:
-    """Refuse (InputError) a display that is named (``DISPLAY``, ``WAYLAND_DISPLAY``) but
-    cannot be opened, such as an X server that died or restarts: SDL then falls back to its
-    offscreen driver, which would draw into no window while the status says "live" (Xvfb
-    killed under a kiosk: the restarted installation ran offscreen at 29 fps and did not open
-    the window when the server was back). Refused, a kiosk's supervisor restarts the
-    installation until the display opens."""
-    driver = pygame.display.get_driver()
-    if driver not in ("offscreen", "dummy"):
-        return
-    named = ", ".join(f"{k}={os.environ[k]}" for k in ("DISPLAY", "WAYLAND_DISPLAY")
-                      if os.environ.get(k))
-    raise InputError(f"the display ({named}) cannot be opened: SDL found only its {driver} "
-                     f"driver; start the display, or {instead}")
-
-
-def check_display(index: int) -> int:
-    """``view.display`` if this machine has that display, else a ConfigError naming the key."""
-    n = pygame.display.get_num_displays()
-    if not 0 <= index < n:
-        from tabletop.schema import ConfigError
-        raise ConfigError(f"view.display: display {index} does not exist; this machine has {n} "
-                          f"display(s), 0 to {n - 1}")
-    return index
