@@ -182,7 +182,7 @@ def tracking_schema() -> Spec:
 
 
 def top_schema() -> Record:
-    from tabletop.kiosk import SCHEMA as KIOSK
+    from tabletop.kiosk.settings import SCHEMA as KIOSK
     from tabletop.studio import SCHEMA as STUDIO
     return Record({
         "table": TABLE,

@@ -61,7 +61,7 @@ def main(args: argparse.Namespace) -> int:
     if kiosk:   # no kiosk file may write over the config, nor two of them be one, nor the
         # heartbeat go to the installation's own osc source
         from tabletop.config_ports import check_heartbeat
-        from tabletop.kiosk import check_files
+        from tabletop.kiosk.settings import check_files
         check_files(cfg)
         check_heartbeat(cfg)
     lock_fd = None

@@ -23,8 +23,8 @@ import logging
 import os
 from pathlib import Path
 
-from tabletop.files import alive
-from tabletop.frames import InputError
+from tabletop.errors import InputError
+from tabletop.file_io import alive
 
 log = logging.getLogger("tabletop")
 

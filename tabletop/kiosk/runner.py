@@ -275,7 +275,7 @@ class Runner:
 
     @staticmethod
     def _kiosk_view(inst: Installation, k: dict[str, Any]) -> None:
-        from tabletop.kiosk import service_key_code
+        from tabletop.kiosk.settings import service_key_code
         key = service_key_code(k["service_key"])   # (a name it has not is refused at load)
         for s in inst.sinks:
             if s.name == "view":

@@ -131,6 +131,18 @@ def refusal(folder: Path, prefix: tuple[str, ...] = ()) -> subprocess.CompletedP
                           capture_output=True, text=True, timeout=60)
 
 
+def test_taking_the_lock_loads_neither_the_config_plugins_nor_numpy(tmp_path):
+    """The lock imported alone (the first thing a kiosk's start does) is a light import: the
+    kiosk's config section, which loads the plugins it is checked with and numpy, is
+    tabletop.kiosk.settings (a process taking the lock 0.42 -> 0.1 CPU s)."""
+    code = ("import sys; from pathlib import Path; from tabletop.kiosk.lock import lock_folder\n"
+            "print(lock_folder(Path(sys.argv[1])) is not None, "
+            "*(m in sys.modules for m in ('numpy', 'tabletop.plugins.scripted')))\n")
+    r = subprocess.run([sys.executable, "-c", code, str(tmp_path)], cwd=ROOT,
+                       capture_output=True, text=True, timeout=60)
+    assert r.stdout.split() == ["True", "False", "False"], r.stdout + r.stderr
+
+
 def test_a_full_disk_keeps_the_lock_and_skips_the_pid(tmp_path):
     """The pid's 6-byte write fails as on a full disk (a file size limit of 0 stands in for
     it): the kiosk starts, holding the lock, and says so in one log line; a second start is
