@@ -47,7 +47,6 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.app import configure_logging, stop_on_signals
     from tabletop.kiosk import last_good
     from tabletop.kiosk.supervised import follow_supervisor, supervised
-    from tabletop.kiosk.supervisor import supervise
 
     configure_logging(args.verbose)
     # a kiosk whose config is refused at its start runs the last one that ran (last_good)
@@ -73,6 +72,7 @@ def main(args: argparse.Namespace) -> int:
     if kiosk and not args.no_supervisor and not supervised():
         # the supervisor never loads the installation's modules: it starts the installation
         # sooner at boot and holds less memory for weeks (see bench/cold_start.py)
+        from tabletop.kiosk.supervisor import supervise
         return supervise(Path(args.config), cfg, _argv(args), seconds, lock_fd)
     from tabletop.kiosk.runner import Runner
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,

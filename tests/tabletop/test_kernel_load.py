@@ -71,6 +71,7 @@ loaded = bool(search_kernel.situation_reset.signatures)
 helpers = sorted(m for m in ("numba.np.arrayobj", "numba.np.npyimpl", "numba.np.arraymath",
                              "numba.misc.quicksort") if m in sys.modules)
 studio = "tabletop.studio.build" in sys.modules
+supervisor = "tabletop.kiosk.supervisor" in sys.modules
 refreshed = "numba.np.polynomial.polynomial_core" in sys.modules   # a registry only
 in_run = len(parsed)
 import numba
@@ -83,7 +84,7 @@ def least_twice(x):                  # links the loaded kernel in: its bitcode p
     return 2.0 * least(x, 0, x.size)
 x = np.array([0.9, 0.3, 0.7, 0.2, 0.6])
 print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refreshed": refreshed,
-                  "helpers": helpers, "studio": studio, "nrt": nrt,
+                  "helpers": helpers, "studio": studio, "supervisor": supervisor, "nrt": nrt,
                   "dot": dot(np.ones(3), np.arange(3.0)), "parsed_in_run": in_run,
                   "linked": [least_twice(x), 2.0 * least.py_func(x, 0, x.size),
                              len(parsed) > in_run]}))
@@ -137,6 +138,7 @@ view: {{size: [320, 180]}}
     assert found["refreshed"] is False
     assert found["helpers"] == [], "numba's array helpers imported to unpickle environments"
     assert found["studio"] is False, "the studio's modules imported by a run without it"
+    assert found["supervisor"] is False, "the kiosk supervisor's module imported by a run"
     kept, loaded, saved = found["nrt"]
     assert saved and loaded == kept, "NRT's machine code saved to the kernel cache, loaded there"
     assert found["dot"] == 3.0
