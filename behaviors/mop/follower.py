@@ -51,10 +51,10 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
 #: The compiled kernels a follower's step calls from Python, loaded when it is built, not on
 #: the step that first calls one (behaviors.kernel_cache.load; what they call is in their code).
-_KERNELS = (window_kernel.step_windows, glitch.path_distance, commitment.add_lagged_all,
-            path_kernel.nearest_on_paths, overrun.overruns, reversal.input_reversal,
-            reversal.reversal_size, reversal.reversal_way, reversal.went_on, reversal.sizes_again,
-            size_probe.probe_allowed, size_probe.take_probe,
+_KERNELS = (window_kernel.step_windows, window_kernel.seat_windows, glitch.path_distance,
+            commitment.add_lagged_all, path_kernel.nearest_on_paths, overrun.overruns,
+            reversal.input_reversal, reversal.reversal_size, reversal.reversal_way,
+            reversal.went_on, reversal.sizes_again, size_probe.probe_allowed, size_probe.take_probe,
             fresh_refusal.refuse, speed_profile.outpaces, speed_profile.turns_on,
             halts.halts, tempo.before_attempt, tempo.span, tempo.slow_take)
 

@@ -24,7 +24,8 @@ import math
 import numpy as np
 
 from behaviors.mop.hmm import TemplateBank, Transitions, dwell_states
-from behaviors.mop.window_kernel import CLAMP as _CLAMP, START_FLOOR as _START_FLOOR, step_windows
+from behaviors.mop.window_kernel import (CLAMP as _CLAMP, START_FLOOR as _START_FLOOR,
+                                         seat_windows, step_windows)
 
 
 class WindowedForward:
@@ -148,8 +149,7 @@ class WindowedForward:
                      self.transitions.restart, self.floor, self._const, self._ll,
                      self._stay, self._dwells, self._scratch, self._tangent, self._half,
                      self._lift, self._stretched)
-        self.steps += 1
-        self._fresh[:] = False
+        self.steps += 1   # (``_fresh`` cleared by step_windows)
         return self._ll.copy()
 
     @property
@@ -180,19 +180,9 @@ class WindowedForward:
         """Each template whose ``states`` (K,: a state from its first, -1 none) lies ahead of its
         mean is followed from there: its main window's whole probability on that state
         (:func:`~behaviors.mop.holding.rested_sizes`), marked in ``seated`` (K,). ``states`` is
-        cleared to -1."""
-        if states.max() < 0.0:   # none (all -1 already): one numpy call instead of four
-            return
-        for j in np.flatnonzero(states > self.mean).tolist():
-            h = int(states[j])
-            lo = int(min(max(h - self.half_window, 0), self._max_lo[j]))
-            self._a[j] = 0.0
-            self._a[j, h - lo] = self._s[j]
-            self.lo[j] = lo
-            self.mean[j] = h
-            self._mom[:, j] = (1.0, h, h * h)
-            seated[j] = True
-        states.fill(-1.0)
+        cleared to -1 (compiled: :func:`~behaviors.mop.window_kernel.seat_windows`)."""
+        seat_windows(states, seated, self.mean, self._a, self._s, self.lo, self._mom,
+                     self._max_lo, self.half_window)
 
     @property
     def progress(self) -> np.ndarray:

@@ -262,7 +262,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._entries, fw.mean, fw.entries, step_ll, self._m_vectors, self._buf,
             self._m_ints, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
             shape_lead.LEAD * 2.0 * SHAPE_SPREAD ** 2, k_out, self._k_new, self._m_top3,
-            self._m_floats, self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
+            self._m_floats, self._m_bools, present, self._thr_means, self._thr_alpha,
             self._thr_scratch, self._thr_z, self._thr_lj, self._thr_tops, self._reversal_at,
             self._reversal_tol, self._probe, self._probe_floor2, self._k_rows, self._shared,
             self._tempo_x, self._tempo_g)

@@ -98,32 +98,23 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
-@compiled(numba.void(_F2, _F1, _I2, _F1, numba.intp, numba.intp, numba.intp, numba.intp,
-                     numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
-def prefetch_ahead(states: np.ndarray, flat: np.ndarray, ti: np.ndarray, mean: np.ndarray,
-                   h: int, before: int, after: int, d: int, n_states: int) -> None:
+@compiled(numba.void(_F2, _I2, _F1, numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
+def prefetch_ahead(states: np.ndarray, ti: np.ndarray, mean: np.ndarray, h: int) -> None:
     """Start loading what template ``h`` (a few ahead of the one the group's per-template pass
-    works on) will read around its followed state ``mean[h]``: its rows of ``states`` and the
-    path's segment means from ``flat`` (the states' means (D, S) as one row); no effect on
-    results. ``ti``, ``before``, ``after``: as the per-template pass's. Inlined into the pass
-    instead of called (the same numbers): update_templates 532, 457, 554 -> 507, 499, 500 us
-    median, alternating processes at load 11-13, the forward step beside it (untouched) 213,
-    189, 219 -> 200, 202, 201: within the noise, not taken."""
+    works on) will read around its followed state ``mean[h]``: its rows of ``states`` (the
+    path's segments among them); no effect on results. ``ti``: as the per-template pass's.
+    Inlined into the pass instead of called (the same numbers): update_templates 532, 457, 554
+    -> 507, 499, 500 us median, alternating processes at load 11-13, the forward step beside it
+    (untouched) 213, 189, 219 -> 200, 202, 201: within the noise, not taken."""
     row0 = int(ti[h, 0] + min(mean[h], ti[h, 1] - 1.0)) + ti[h, 2]
     first_h, end_h = ti[h, 0] + ti[h, 2], ti[h, 0] + ti[h, 1] + ti[h, 2]
     # (the rows its timing offsets read too, commitment.add_lagged, and its last:
     # update_templates p10 788, 793 -> 724, 708 us, add_lagged's share of the
-    # tick's perf samples 11% -> 5%, alternating processes at load 25)
+    # tick's perf samples 11% -> 5%, alternating processes at load 25; they hold the path's
+    # reach, PATH_REACH, too)
     for r in range(max(row0 - COMMIT_LAGS, first_h), min(row0 + COMMIT_LAGS + 2, end_h)):
         prefetch(states, r)
     prefetch(states, end_h - 1)
-    # ... and the path's segment means: eight cache lines a template read from ``states``'
-    # 64-byte rows, two from here (DESIGN's tick, load 18: update_templates 0.677 -> 0.629 ms,
-    # the tick 1.476 -> 1.396 ms median)
-    r0, r1 = max(row0 - before, first_h), min(row0 + after + 1, end_h - 1)
-    for c in range(d):
-        prefetch(flat, c * n_states + r0)
-        prefetch(flat, c * n_states + r1)
 
 
 @compiled(numba.float64(_F3, _I1, _F2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1),

@@ -257,3 +257,48 @@ def test_the_window_transitions_add_the_move_back_in_the_order_of_two_passes():
                 fused += want != ((f[0] * x[t] + f[1] * x[t - 1] + f[2] * x[t - 2]
                                    + f[3] * x[t - 3]) + (back * x[t + 1] if t + 1 < n else 0.0))
     assert fused > 100   # (the order matters: rounded op by op, most rows differ)
+
+
+def test_a_seat_puts_the_whole_main_window_on_a_state_ahead_only():
+    # WindowedForward.seat compiled (window_kernel.seat_windows) as the Python it replaced:
+    # only a template whose state lies ahead of its mean is seated (the window on that state,
+    # its start within the template, moments of a point), every mark then cleared to -1; the
+    # marks as a strided column (the group's record) as well as a row of their own
+    rng = np.random.default_rng(5)
+    bank = build_bank({f"t{i}": g.template(rng, 40 + 10 * i, 2) for i in range(4)})
+    fw = WindowedForward(bank, half_window=5)
+    for z in rng.normal(size=(12, 2)):
+        fw.step(z)
+    record = np.zeros((4, 3))
+    record[:, 1] = [-1.0, 30.0, 0.0, 42.0]   # t0 none, t1 and t3 ahead, t2 behind its mean
+    states, seated = record[:, 1], np.zeros(4, dtype=bool)
+    a, s, lo, mean, mom = fw._a.copy(), fw._s.copy(), fw.lo.copy(), fw.mean.copy(), fw._mom.copy()
+    assert mean[2] > 0.0 and mean[1] < 30.0 and mean[3] < 42.0
+    fw.seat(states, seated)
+    assert seated.tolist() == [False, True, False, True] and (record[:, 1] == -1.0).all()
+    for j, h in ((1, 30), (3, 42)):
+        low = min(max(h - 5, 0), int(bank.lengths[j]) - 11)
+        want = np.zeros(a.shape[1])
+        want[h - low] = s[j]
+        assert fw.lo[j] == low and (fw._a[j] == want).all() and fw.mean[j] == h
+        assert fw._mom[:, j].tolist() == [1.0, h, h * h]
+    for j in (0, 2):   # the others as they were
+        assert (fw._a[j] == a[j]).all() and fw.lo[j] == lo[j] and fw.mean[j] == mean[j]
+        assert (fw._mom[:, j] == mom[:, j]).all()
+    a, mean = fw._a.copy(), fw.mean.copy()
+    none = np.full(4, -1.0)
+    fw.seat(none, seated)   # nothing to seat: nothing touched
+    assert (fw._a == a).all() and (fw.mean == mean).all() and (none == -1.0).all()
+
+
+def test_a_step_clears_the_first_step_marks():
+    rng = np.random.default_rng(6)
+    bank = build_bank({f"t{i}": g.template(rng, 40, 2) for i in range(3)})
+    fw = WindowedForward(bank)
+    assert fw._fresh.all()
+    fw.step(rng.normal(size=2))
+    assert not fw._fresh.any()
+    fw.reset_templates(np.array([1]), fresh=True)
+    assert fw._fresh.tolist() == [False, True, False]
+    fw.step(rng.normal(size=2))
+    assert not fw._fresh.any()
