@@ -2,8 +2,6 @@
 first tick is drawn as quickly as the next ones, not 0.15-0.5 s late (the table's soft light,
 a 480 px glow, made in the first frame drawn)."""
 
-import time
-
 import numpy as np
 import pygame
 import pytest
@@ -27,15 +25,11 @@ def test_the_table_is_made_when_the_view_opens_not_in_the_first_frame(monkeypatc
         made = []
         monkeypatch.setattr(renderer_module, "table_surface",
                             lambda *a: made.append(a) or screens.table_surface(*a))
-        spent = []
         for k in range(3):
-            t0 = time.perf_counter()
             view.consume(Frame(seq=k, t=k / 60))
-            spent.append(time.perf_counter() - t0)
-        assert made == []                   # made when the view opened
-        # measured (headless, 2 cores under load): first frame 280 ms before, 11 ms after;
-        # the next ones 1-12 ms
-        assert spent[0] < 0.1, spent
+        # made when the view opened, not in a frame (measured: the first frame 280 ms
+        # before, 11 ms after, headless on 2 cores under load; the next ones 1-12 ms)
+        assert made == []
         # and the frame drawn is the table: its centre lit as the static table's
         img = rgb(view.screen).astype(int)
         table = rgb(view.renderer._static).astype(int)
@@ -66,14 +60,11 @@ def test_the_configured_characters_glows_are_made_when_the_view_opens(monkeypatc
         made = []
         monkeypatch.setattr(P, "_white_light", lambda v: made.append(len(v)) or
                             P.fast(pygame.surfarray.make_surface(np.zeros((*v.shape, 3)))))
-        t0 = time.perf_counter()
         for part, size in parts:       # as each character first shows, fading in
             P.glow_surface(glow_radius(part, size, ppm), (240, 170, 60), 0.1)
-        spent = time.perf_counter() - t0
-        assert made == []                   # every size made when the view opened
-        # measured (headless, 2 cores at load 3): 5 new sizes 1-25 ms in the loop before; a tint
-        # each after (a copy and a fill, well under 1 ms for the 5; room left for a loaded machine)
-        assert spent < 0.01, spent
+        # every size made when the view opened (measured headless, 2 cores at load 3: 5 new sizes
+        # 1-25 ms in the loop before; a tint each after, a copy and a fill)
+        assert made == []
         assert len(P._glow_bases) >= 5
     finally:
         view.close()
