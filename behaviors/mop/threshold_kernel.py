@@ -39,6 +39,7 @@ _W0, _W1, _W2, _W3 = (_F32(w) for w in MIRROR_MOVES)
 
 
 _U = numba.uintp   # an index known to be >= 0: no wrap-around of negative indices
+_I32 = np.int32
 
 
 @intrinsic
@@ -90,6 +91,28 @@ def _entry_weights(a, ma, ti, a0, a1, base, entries) -> None:
         ma[ti[k, 2] + ti[k, 0] - base] = _F32(1.0 / entries)
 
 
+@compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
+def _held(w: np.ndarray, n: int) -> tuple[int, int]:
+    """The first and one past the last of the states ``0..n`` whose weight ``w`` is above zero
+    (``n``, 0 if none), in one pass that vectorises (index minima and maxima in 32 bits)."""
+    first, last = _I32(n), _I32(-1)
+    for j in range(n):
+        held = w[j] > _ZERO32
+        first = min(first, _I32(j) if held else _I32(n))
+        last = max(last, _I32(j) if held else _I32(-1))
+    return first, last + _I32(1)
+
+
+@compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
+def _whole(a: int, b: int, n: int) -> tuple[int, int]:
+    """The states ``a..b`` widened within ``0..n`` to 8 m + 1 of them (m >= 1 if ``n`` allows):
+    the compiler takes a loop's first state apart and the rest in vectors of eight, any left
+    over one by one (a single-precision exponential each costs about a vector's)."""
+    m = (max(b - a, 1) + 6) // 8 * 8 + 1
+    end = min(a + m, n)
+    return max(end - m, 0), end
+
+
 # Without numba's reference counts (``_nrt=False``): its eight slices a template each took a
 # locked increment and decrement (with update_templates', a fifth of DESIGN's group tick).
 # The group's outputs moved by at most 2e-11 relative (no best, validity or likely changed).
@@ -107,9 +130,10 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     twice the largest member's states, the mirror chains' in its second half; ``tops_k``
     (3K,): each template's likeliest state, then each chain's (scratch), then each chain's
     summed weight, kept for the next step); returns the sample's log-likelihood. A chain that
-    held no weight takes it at its first state only: no pass over it but its distances; a
-    chain's prior is summed move by move in its template's ergodic log-densities' place once
-    they are read, so that its passes vectorise too. Its sum is taken template by template
+    held no weight takes it at its first state only: no pass over it but its distances; one
+    that held some, only where it held it and three states on (:func:`_held`); a chain's
+    prior is summed move by move in its template's ergodic log-densities' place once they
+    are read, so that its passes vectorise too. Its sum is taken template by template
     (:func:`_summed`, the same to about 1e-16) and its exponentials by
     :func:`~behaviors.mop.compiled.exp_neg32`, so every loop over the states vectorises
     (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
@@ -242,34 +266,44 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
         # DESIGN's tick, thread time after the view's frames, alternating processes at load
         # 19: median 1385, 1294 -> 1277, 1196 us, update_templates 737, 712 -> 649, 622 us;
         # bench/mop.py --design's CPU median 1.415 -> 1.249 ms, p99 2.30 -> 1.99 ms, medians of
-        # five alternating runs at load 13-22; the same numbers to the bit). Only over the
-        # chain's support (about 10 of its 100 states) and three states past it, in whole
-        # vectors of eight (the rest stays zero): the same numbers, but 8 members on DESIGN's
-        # real state 164 -> 164 us median hot, 194 -> 192 cold (a chain's own set-up, its first
-        # state and its sum remain): not taken
+        # five alternating runs at load 13-22; the same numbers to the bit).
         # The four moves in one pass, each added by one fused multiply-add as the pass per
         # move added it (so the same numbers to the bit: written as one sum, the compiler
         # fused its first two products the other way round): 8 members on DESIGN's real state,
         # interleaved in one process, 194.5, 182.6, 182.7 -> 184.6, 173.5, 175.7 us median
         # hot, 266.8, 348.9, 315.3 -> 256.7, 334.5, 295.7 cold (46 % of the chains hold weight)
         length = hi - lo
-        for p in range(min(length, 3)):
+        for p in range(min(length, 3)):   # (the first state's prior is read below)
             acc = _W0 * mk[p]
             if p >= 1:
                 acc = _fma(_W1, mk[p - 1], acc)
             if p >= 2:
                 acc = _fma(_W2, mk[p - 2], acc)
             vk[p] = acc
-        for p in range(3, length):
+        # Its prior and weights only where it held weight and three states on (about 13 of its
+        # 100 states; outside, the prior is 0, so are the weights, and so they stay), widened
+        # to 8 m + 1 states (:func:`_whole`): the same numbers to the bit (every output of the
+        # step at 100 ticks of DESIGN's real state); 8 members on it, interleaved in one
+        # process, load 6-7, three rounds each way: paired -27.5, -29.1, -28.1 us median hot,
+        # -24.5, -27.4, -23.2 cold (of ~300 / ~500; swapped +32.8, +31.6, +23.7 / +20.0, +27.1,
+        # +20.9). Refused: the same over the states within e^-40 of the likeliest with a prior
+        # above zero (a pass to find them) in whole vectors of eight, +9 us (the first state
+        # taken apart left seven to the scalar tail: why an earlier form over the support in
+        # whole vectors gained nothing); that span in 8 m + 1 states, -16 hot, -4 cold; the
+        # ergodic states' pass over their live span, +11 to +24 us (half their states live)
+        f0, f1 = _held(mk, length)
+        r0, r1 = _whole(f0, min(f1 + 3, length), length)
+        for p in range(max(r0, 3), r1):
             u = _U(p)
             acc = _W0 * mk[u]
             acc = _fma(_W1, mk[u - _U(1)], acc)
             acc = _fma(_W2, mk[u - _U(2)], acc)
             vk[u] = _fma(_W3, mk[u - _U(3)], acc)
-        for p in range(length):
-            e = mvk[p] - top
-            w = kc * vk[p] * exp_neg32(max(e, _FLOOR32))
-            mk[p] = w if e >= _FLOOR32 and w >= _TINY32 else _ZERO32   # (threshold.TINY)
+        sm, sw, sv = mk[r0:r1], vk[r0:r1], mvk[r0:r1]   # (views from 0: the loop vectorises)
+        for p in range(r1 - r0):
+            e = sv[p] - top
+            w = kc * sw[p] * exp_neg32(max(e, _FLOOR32))
+            sm[p] = w if e >= _FLOOR32 and w >= _TINY32 else _ZERO32   # (threshold.TINY)
         e = mvk[0] - top   # the chain's first state: the jumps land there too
         w = (kc * vk[0] + rest) * exp_neg32(max(e, _FLOOR32))
         mk[0] = w if e >= _FLOOR32 and w >= _TINY32 else _ZERO32
