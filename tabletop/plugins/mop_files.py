@@ -59,6 +59,10 @@ class MotionLoader:
     def __init__(self, kind: str, base: Path, rig: Any = None) -> None:
         self.kind, self.base, self.rig = kind, base, rig
         self._cache: dict[str, Clip] = {}
+        # the kind's built-in clips, made once for all its motions (each made them all: the
+        # example installation's build called creature_clips 6 -> 2, face_clips 7 -> 4 times;
+        # the build 0.128 -> 0.108 CPU s)
+        self._builtin: dict[str, Clip] | None = None
 
     def __call__(self, motion: str) -> Clip:
         if motion not in self._cache:
@@ -70,8 +74,10 @@ class MotionLoader:
                 clip = humanoid_hybrid_clip(what)
             elif how == "builtin":
                 from behaviors.mop.creatures import creature_clips, face_clips, hybrid_clips
-                clip = {"creature": creature_clips, "face": face_clips,
-                        "hybrid": hybrid_clips}[self.kind]()[what]
+                if self._builtin is None:
+                    self._builtin = {"creature": creature_clips, "face": face_clips,
+                                     "hybrid": hybrid_clips}[self.kind]()
+                clip = self._builtin[what]
             elif how == "deepmimic":
                 from behaviors.motion.deepmimic import load_motion
                 clip = load_motion(what)
