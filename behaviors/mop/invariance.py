@@ -137,6 +137,12 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   circle given its drawn size is followed on its truth, its shape sum a third of the spin
   wrist's, yet the spin drives 6 ticks instead of 3, the circle's evidence paying its Jacobian
   and 2 log 1.2 a sample more than its better fit gains (:mod:`behaviors.mop.recognition`).
+  Guarded, W 0.5 (107-112): the window for ``best`` alone, sized mean 0.9109 -> 0.9159 (every
+  seed up), own-stroke told worst 0.0952 -> 0.0978, but 108's wrong run 3 -> 4 and 112's 1 -> 2
+  (the wrong best stretches to fit as well); for the action driving alone, sized mean 0.9109 ->
+  0.9141 (110 0.9167 -> 0.9127), no wrong run longer, told mean 0.0448 -> 0.0469 (111 0.032 ->
+  0.041), but 101-106 sized mean 0.9131 -> 0.9119 (105 0.9167 -> 0.9083), own-stroke told worst
+  0.0603 -> 0.0845 (103).
 
 One size per template, the same in every column: a performer's redraw that is taller than wide
 (``bench/follow_shapes.py``) is followed only as far as the misfit allows. Measured and not

@@ -32,6 +32,14 @@ from ``bench/follow_quality.py`` unless said otherwise.
   106 4 -> 6. A quarter of the way: runs 4/4/7/2/2/4 and 3/6/4/2/5/2, within 20% 110 only, but an
   unrelated stroke after a gesture (unambiguous) 0.072 -> 0.116, held-out valid after 30% 0.9022
   -> 0.9016 (105 0.8860 -> 0.8793), bent 10% 0.621 -> 0.609, held-out aspect 1.2 0.427 -> 0.401.
+  Nor only among templates that fit alike (each Jacobian toward the weighted mean of those whose
+  evidence without it lies within 6 nats of the best, weight falling to 0 there): held-out 108's
+  circle at 1.2x and the spin wrist fit within 0-2 nats (the circle better) and the spin leads by
+  8-10 nats of density alone; evened, neither drives (twenty avoidable wrong runs 107-112 worst
+  3 -> 2, 101-106 mean 1.5 -> 1.0), but sized valid after 30% lower on every seed 107-112 (mean
+  0.9109 -> 0.9017, 112 0.9123 -> 0.8889) and within 20% or by the reach + 0.05 mean 0.521 ->
+  0.490: the broad template's own-unit fit is the better one wherever the raw input is alike
+  (110's true spin wrist: the circle fits 1.2-2.5 nats better; evened to 8 nats it drives 4).
 - Engagement: a template drives nothing until its progress passed its onset (the first state
   ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a still
   input lets the transitions' prior drift along the first states (a still tail after a diagonal
