@@ -21,40 +21,24 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import numpy as np  # noqa: E402
-
-from bench.common import check_flags, emit  # noqa: E402
-from bench.tempo_span import after_performances, recognised  # noqa: E402
+from bench.common import check_flags  # noqa: E402
+from bench.tempo_span import after_performances, compared, judged, with_and_without  # noqa: E402
 
 
 def main() -> int:
     check_flags("tempo_after", sys.argv[1:], flags=("--cases",))
-    from bench.follow_quality import puck_follower, run
     from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
     from behaviors.mop import tempo
-    from behaviors.mop.group import FollowerGroup
     templates = {**gesture_templates(), **mocap_templates(joints=MOCAP_HELD_OUT)}
     cases = after_performances(templates)
-    group = FollowerGroup([puck_follower(templates)])
-    now = []
-    for x, name, prog, begin in cases:
-        group.reset()
-        now.append(recognised([group.step([s])[0] for s in x], name, prog, begin))
-    tempo.before_attempt = lambda samples: False
-    f = puck_follower(templates)
-    before = np.array([recognised(run(f, x), name, prog, begin)
-                       for x, name, prog, begin in cases])
-    now = np.array(now)
+
+    def rule_off() -> None:
+        tempo.before_attempt = lambda samples: False
+    now, before = with_and_without(templates, cases, rule_off)
     if "--cases" in sys.argv[1:]:   # per performance: pair, seed, with, without
         for i, (a, b) in enumerate(zip(now, before)):
             print(f"pair {i // 4} seed {i % 4}: {a:.4f} {b:.4f}")
-    out = {"performances": len(cases), "sooner": int(np.sum(now < before - 1e-9)),
-           "later": int(np.sum(now > before + 1e-9)), "mean_with": float(now.mean()),
-           "mean_without": float(before.mean())}
-    emit("tempo_after", out, {"later": 0, "sooner_least": 8, "mean_lower_by": 0.01})
-    ok = (out["later"] == 0 and out["sooner"] >= 8
-          and out["mean_with"] <= out["mean_without"] - 0.01)
-    return 0 if ok else 1
+    return judged("tempo_after", compared(now, before), 8, 0.01)
 
 
 if __name__ == "__main__":

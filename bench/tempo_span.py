@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import Callable
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -78,31 +79,51 @@ def recognised(states: list, name: str, prog: np.ndarray, begin: int) -> float:
     return float(hit[0]) if hit else 1.0
 
 
-def main() -> int:
-    check_flags("tempo_span", sys.argv[1:])
+def with_and_without(templates: dict, cases: list, rule_off: Callable[[], None]
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """The progress at which each case is first driven with a rule (stepped by a group of one,
+    the installation's compiled form, equal to its follower alone) and without it (``rule_off``
+    switches the Python follower's rule off; the follower stepped alone)."""
     from bench.follow_quality import puck_follower, run
-    from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
-    from behaviors.mop import tempo
     from behaviors.mop.group import FollowerGroup
-    templates = {**gesture_templates(), **mocap_templates(joints=MOCAP_HELD_OUT)}
-    cases = from_rest_performances(templates) + after_performances(templates)
     group = FollowerGroup([puck_follower(templates)])
     now = []
     for x, name, prog, begin in cases:
         group.reset()
         now.append(recognised([group.step([s])[0] for s in x], name, prog, begin))
-    tempo.span = lambda samples: float(tempo.TEMPO_SAMPLES)
+    rule_off()
     f = puck_follower(templates)
     before = np.array([recognised(run(f, x), name, prog, begin)
                        for x, name, prog, begin in cases])
-    now = np.array(now)
-    out = {"performances": len(cases), "sooner": int(np.sum(now < before - 1e-9)),
-           "later": int(np.sum(now > before + 1e-9)), "mean_with": float(now.mean()),
-           "mean_without": float(before.mean())}
-    emit("tempo_span", out, {"later": 0, "sooner_least": 5, "mean_lower_by": 0.004})
-    ok = (out["later"] == 0 and out["sooner"] >= 5
-          and out["mean_with"] <= out["mean_without"] - 0.004)
+    return np.array(now), before
+
+
+def compared(now: np.ndarray, before: np.ndarray) -> dict[str, float]:
+    """Counts of cases driven sooner and later with the rule, and both means (progress)."""
+    return {"performances": len(now), "sooner": int(np.sum(now < before - 1e-9)),
+            "later": int(np.sum(now > before + 1e-9)), "mean_with": float(now.mean()),
+            "mean_without": float(before.mean())}
+
+
+def judged(name: str, out: dict[str, float], sooner_least: int, lower_by: float) -> int:
+    """Prints ``out`` as the bench's JSON line; 0 when no case is later with the rule, at least
+    ``sooner_least`` sooner and the mean ``lower_by`` (progress) lower, else 1."""
+    emit(name, out, {"later": 0, "sooner_least": sooner_least, "mean_lower_by": lower_by})
+    ok = (out["later"] == 0 and out["sooner"] >= sooner_least
+          and out["mean_with"] <= out["mean_without"] - lower_by)
     return 0 if ok else 1
+
+
+def main() -> int:
+    check_flags("tempo_span", sys.argv[1:])
+    from bench.motions import MOCAP_HELD_OUT, gesture_templates, mocap_templates
+    from behaviors.mop import tempo
+    templates = {**gesture_templates(), **mocap_templates(joints=MOCAP_HELD_OUT)}
+    cases = from_rest_performances(templates) + after_performances(templates)
+
+    def rule_off() -> None:
+        tempo.span = lambda samples: float(tempo.TEMPO_SAMPLES)
+    return judged("tempo_span", compared(*with_and_without(templates, cases, rule_off)), 5, 0.004)
 
 
 if __name__ == "__main__":
