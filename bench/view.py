@@ -8,7 +8,7 @@ bench/xwindow.py when missing; skipped with a reason when it cannot be had). Dis
 - ``x11gl``: an X window presented through SDL's default texture framebuffer (every frame
   uploaded into an OpenGL texture: Mesa's software OpenGL here);
 - ``x11``: an X window presented straight (shared-memory images; the view's default, see
-  ``tabletop.view.direct_framebuffer``).
+  ``tabletop.display.direct_framebuffer``).
 
 Candidates, interleaved A B A B ... (every candidate once per round, rounds alternate):
 

@@ -31,10 +31,7 @@ from calibration.transforms import apply_homography  # noqa: E402
 from tabletop.drawing import screens  # noqa: E402
 from tabletop.drawing.light import HINT_SHOWN  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
-# the display's start and checks, importable from here too
-from tabletop.display import (WITHOUT_WINDOW, check_display, check_driver,  # noqa: E402,F401
-                              direct_framebuffer, headless_needed, init_display, start_display,
-                              start_view_display, window_size)
+from tabletop.display import check_display, start_view_display, window_size  # noqa: E402
 from tabletop.frames import Frame  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.loop_stats import LABELS  # noqa: E402

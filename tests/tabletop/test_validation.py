@@ -270,7 +270,7 @@ def test_a_display_this_machine_does_not_have():
     os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
     import pygame
     from tabletop.schema import ConfigError
-    from tabletop.view import check_display
+    from tabletop.display import check_display
 
     pygame.display.init()
     n = pygame.display.get_num_displays()

@@ -49,7 +49,7 @@ def test_the_uncalibrated_table_fills_the_window_it_is_given():
 def test_a_window_larger_than_the_screen_is_opened_to_fit_it_and_drawn_whole():
     """A 1280x720 view on an 800x600 screen showed only its middle (an Xvfb screenshot): the
     window opens at the largest size of its shape that fits, and the whole table is in it."""
-    from tabletop.view import window_size
+    from tabletop.display import window_size
     assert window_size((1280, 720), (1920, 1080)) == (1280, 720)
     small = window_size((1280, 720), (800, 600))
     assert small == (800, 450)
