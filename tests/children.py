@@ -3,12 +3,16 @@ command: SIGINT, SIGTERM and SIGHUP at their defaults and unblocked, whatever th
 inherited. A program keeps a stop signal it was started ignoring (Unix convention, and
 CPython's own): pytest run as a background job of a script has SIGINT ignored, under
 ``nohup`` SIGHUP, and a child started plainly would keep them ignored and outlive the test's
-Ctrl-C."""
+Ctrl-C. And a Python script run in a child of its own, its answer one JSON line."""
 
+import json
 import signal
 import subprocess
+import sys
+from pathlib import Path
 from typing import Any, Callable, Optional, Sequence
 
+ROOT = Path(__file__).resolve().parents[1]
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
@@ -40,3 +44,14 @@ def run(args: Sequence[str], *, preexec_fn: Optional[Callable[[], Any]] = None,
         **kw: Any) -> subprocess.CompletedProcess:
     """``subprocess.run(args, **kw)`` with the stop signals at their defaults."""
     return subprocess.run(args, preexec_fn=_then(preexec_fn), **kw)
+
+
+def python_json(script: str, *args: str, timeout: float = 120.0) -> Any:
+    """The last line ``script`` prints, read as JSON, run by this interpreter in a process of
+    its own (``python -c script args``, in the project's folder): what it imports and the
+    memory it holds are then its own, not the test worker's; a failed child fails the test
+    with the end of its stderr."""
+    out = subprocess.run([sys.executable, "-c", script, *args], cwd=ROOT, capture_output=True,
+                         text=True, timeout=timeout)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return json.loads(out.stdout.splitlines()[-1])

@@ -4,14 +4,12 @@ objects stay flat and nothing fails. The long forms are bench/soak.py's (`python
 --soaks`): the hour with the scripts' whole history (tracking.visitor.HISTORY_S), the rate
 staying steady."""
 
-import json
-import subprocess
-import sys
 from pathlib import Path
 
 import yaml
 
 from tabletop.kiosk.simulate import soak_config
+from tests.children import python_json
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -51,10 +49,7 @@ def test_twelve_simulated_minutes_keep_memory_flat(tmp_path):
     path.write_text(yaml.safe_dump(soak_config(ROOT, rate_hz=1.0, review=False)))
     # sampled every 150 s: every 600 s the growth measured 0.73-0.81 -> 1.23-1.24 MB over the
     # half hour (three runs each)
-    done = subprocess.run([sys.executable, "-c", SOAK, str(path)], cwd=ROOT,
-                          capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stderr[-2000:]
-    r = json.loads(done.stdout.splitlines()[-1])
+    r = python_json(SOAK, str(path), timeout=600)
     assert r["ticks"] == 750 and r["errors"] == 0
     assert r["tries"] == 4                           # every take recorded, trained, discarded
     growth = r["rss_end_bytes"] - r["rss_start_bytes"]

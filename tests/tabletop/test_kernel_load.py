@@ -4,10 +4,9 @@ loading them imports neither SciPy nor OpenCV where the installation has no use 
 
 from __future__ import annotations
 
-import json
-import subprocess
-import sys
 from pathlib import Path
+
+from tests.children import python_json
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -91,22 +90,15 @@ print(json.dumps({"code": code, "imported": imported, "loaded": loaded, "refresh
 """
 
 
-def _run(script: str, *args: str) -> dict:
-    out = subprocess.run([sys.executable, "-c", script, *args], cwd=ROOT, capture_output=True,
-                         text=True, timeout=120)
-    assert out.returncode == 0, out.stderr[-2000:]
-    return json.loads(out.stdout.splitlines()[-1])
-
-
 def test_importing_the_engines_and_the_cli_loads_no_kernel():
-    found = _run(IMPORTED)
+    found = python_json(IMPORTED)
     assert found["loaded"] == []
     # (92 kernels are declared with a signature: 43 of the Puppet Master, 49 of MOP)
     assert found["pending"] >= 80
 
 
 def test_an_engine_built_loads_the_kernels_its_steps_call_none_on_the_steps():
-    found = _run(STEPPED)
+    found = python_json(STEPPED)
     assert found["loaded"] == []
     # what the steps' own kernels call is in their code: most of them never load
     assert found["stepped"] == found["built"] >= 50
@@ -132,7 +124,7 @@ engines:
      main: {{puck: 1}}}}
 view: {{size: [320, 180]}}
 """)
-    found = _run(RUN_SCRIPTED, str(cfg))
+    found = python_json(RUN_SCRIPTED, str(cfg))
     assert found["code"] == 0 and found["loaded"]
     assert found["imported"] == []
     assert found["refreshed"] is False
