@@ -27,7 +27,9 @@ from bench.common import check_flags, emit  # noqa: E402
 JITTER_M = 0.0007   # the tracker's, standard deviation per axis
 
 
-def _table(cfg: dict):
+def validated_table(cfg: dict):
+    """A 60 Hz table driving the MOP engine of ``cfg`` (a validated config: its first
+    engine), files relative to the examples."""
     from tabletop.plugins import mop
     from tabletop.plugins.mop_table import EXAMPLES, RATE, Table
     from tabletop.registry import BuildContext
@@ -54,7 +56,7 @@ def lifted_puck(cfg: dict, seed: int) -> float:
     from tabletop.drawing.life import hint_level
     from tabletop.plugins.mop_table import RATE
     rng = np.random.default_rng(seed)
-    table = _table(cfg)
+    table = validated_table(cfg)
     jittered_rest(table, 2.0, rng)
     table.pucks.pop(1)
     lifted = [table.tick() for _ in range(int(RATE))]
@@ -79,7 +81,7 @@ def still_finger(cfg: dict, seed: int):
     from tabletop.drawing.life import hint_level
     from tabletop.frames import Touch
     rng = np.random.default_rng(seed)
-    table = _table(cfg)
+    table = validated_table(cfg)
     for _ in range(60):
         table.tick()
     still = []

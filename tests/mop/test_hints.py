@@ -4,17 +4,10 @@ sample a gesture leaves its rest radius, and never on a still puck."""
 import numpy as np
 
 from bench.hint_still import (JITTER_M, jittered_rest, lifted_puck, still_finger,
-                               touch_config)
+                               touch_config, validated_table)
 from tabletop.drawing.life import hint_level
 from tabletop.frames import Touch
-from tabletop.plugins import mop
-from tabletop.plugins.mop_table import EXAMPLES, RATE, G, Table, build
-from tabletop.registry import BuildContext
-
-
-def _table(cfg):
-    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=EXAMPLES)
-    return Table(mop.build(cfg["engines"][0], ctx))
+from tabletop.plugins.mop_table import RATE, G, Table, build
 
 
 def _left_rest(name, radius=0.003):
@@ -30,7 +23,7 @@ def test_a_gesture_is_hinted_from_the_sample_it_leaves_its_rest(example_cfg):
     / 0.111); with the engagement onset gating them, the circle's 5 samples after (0.150)."""
     rng = np.random.default_rng(1)
     for name in ("circle", "line"):
-        table = _table(example_cfg)
+        table = validated_table(example_cfg)
         jittered_rest(table, 0.9, rng)
         run = table.perform(name, noise=JITTER_M, seed=2, upto=0.4)
         first = next(k for k, (u, ch) in enumerate(run) if hint_level(ch["dancer"]) > 0.03)
@@ -46,7 +39,7 @@ def test_a_still_puck_is_never_hinted(example_cfg):
     """A puck standing still from the first frame, 0.7 mm of jitter: this draw crosses the
     3 mm rest radius by jitter alone in its first samples (4 samples at 0.67-0.80 would be
     hinted if only a rest silenced the hints)."""
-    table = _table(example_cfg)
+    table = validated_table(example_cfg)
     still = jittered_rest(table, 3.0, np.random.default_rng(13))
     assert max(hint_level(ch[c]) for ch in still for c in ("dancer", "bird")) == 0.0
 
