@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from behaviors.mop.creatures import FaceModel, creature_clips, creature_skeleton, face_clips
-from behaviors.mop.puppetry import FaceRig, HumanoidRig, PlanarRig, sprite_sheet_from_mapping
+from behaviors.mop.puppetry import FaceRig, HumanoidRig, PlanarRig
+from behaviors.mop.sprites import sprite_sheet_from_mapping
 from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion
 from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf, place
 from tabletop.frames import CharacterState, Frame, Puck

@@ -27,7 +27,7 @@ def make_rig(c: dict) -> Rig:
     """The rig of MOP character entry ``c`` (its ``kind``); a sprite sheet that cannot be read
     is a MopError naming the file."""
     if c["kind"] == "sprite":
-        from behaviors.mop.puppetry import sprite_sheet_from_mapping
+        from behaviors.mop.sprites import sprite_sheet_from_mapping
         try:
             data = json_loads(read_text_within(Path(c["sheet"]), MAX_CLIP_BYTES, "sprite sheet",
                                                MopError))
