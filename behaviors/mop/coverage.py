@@ -69,6 +69,25 @@ reach + 0.05 mean 0.526 -> 0.536 (102 and 103 up, worst 0.406 -> 0.438), within 
 0.578, held-out twenty from rest median 0.215 -> 0.207; held-out pauses: one more performance
 drives before its pause (60 -> 61) and is not held through it (held through 0.917 -> 0.902,
 valid 0.951 -> 0.937: the same 55 held through), tuned own stroke mean 0.04669 -> 0.04697.
+A need set by the template's own straight start (above where the observer tells it apart, under the
+misfit's bound and ``coverage``) is read at its best timing offset *ahead* of the followed state
+(:func:`arc_ahead`: the least of commitment's shape sums within ``COMMIT_LAGS`` states,
+:mod:`~behaviors.mop.commitment`, as summed up to the sample before): on a fast start the followed
+state lags the performer along a stroke that has no timing of its own to tell. Read so among the
+tuned twenty: the circle, jump wrist, backflip wrist and dance b wrist; held-out: the kick,
+spinkick, spin and roll wrists and the crawl ankle (from rest, the 1.2x crawl ankle recognised at
+0.219 -> 0.204). ``bench/follow_seeds.py``: 101-106 twenty within 20% mean 0.3125 -> 0.3177 (106
+0.281 -> 0.313); 107-112 0.3177 -> 0.3281 (107 0.313 -> 0.344, 112 0.344 -> 0.375), or by reach +
+0.05 0.5208 -> 0.5313 (107 and 112 0.531 -> 0.563); every other figure identical.
+``bench/follow_quality.py``: every target's figure identical (the six without shared starts for
+options: the line recognised at 0.277 -> 0.301, longest wrong run 6 -> 5). Price: ``bench/mop.py
+--design``'s group in one process, the kernel without it and with it alternating in blocks of 25
+ticks (1950 ticks each, load 3): CPU median 0.887 / 0.828 / 1.111 / 0.864 / 0.867 -> 0.897 / 0.859
+/ 1.086 / 0.861 / 0.862 ms, within the noise. A need set by other templates' starts keeps the
+followed state. Measured and not kept, every need under 8% read ahead (the zigzag's 2.6% among six
+too): the held-out twenty's within-20%-or-reach shares up 0.005 and 0.010, but a template's own
+stroke told on seed 109 0.091 -> 0.101 and unrelated told on 110 0.034 -> 0.077 (the zigzag taken
+on the wander).
 Less coverage for every template alike (``bench/follow_quality.py``, tuned): with every template
 asked 8% of its path, what holds the open three is coverage (at 0.22-0.25 of their progress): less
 coverage measured against 8% (at 8%: open share 0, the zigzag 0.257, the wave 0.225, unrelated
@@ -316,8 +335,10 @@ past 0.2 (the ceiling with no coverage at all, 0.41, above).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
+from behaviors.kernel_cache import compiled
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SKIP
 
@@ -347,6 +368,26 @@ def told_apart_arc(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, arc
     until = shared_until(rel, starts, lengths, sizes, radius * scale, SHARE_SKIP)
     told = np.minimum(until.max(axis=1) + 1, lengths - 1)
     return arc[starts + told]
+
+
+@compiled(numba.float64(numba.float64[:, :], numba.intp, numba.float64, numba.intp, numba.intp,
+                        numba.float64[:, ::1], numba.intp, numba.intp))
+def arc_ahead(lags: np.ndarray, k: int, g: float, first: int, last: int, states: np.ndarray,
+              off: int, col: int) -> float:
+    """Template ``k``'s arc (``states``' column ``col``, its rows from ``off``) read at its
+    followed state ``g`` (bank index; its states ``first`` .. ``last``) plus its best timing
+    offset, the least of its shape sums ``lags`` (one row per offset:
+    :func:`~behaviors.mop.commitment.add_lagged`; ties to the one most behind), where that
+    lies ahead; at ``g`` otherwise (the follower and the group's kernel call it alike)."""
+    n = lags.shape[0]
+    best = 0
+    for j in range(1, n):
+        if lags[j, k] < lags[best, k]:
+            best = j
+    at = min(g + max(best - (n - 1) // 2, 0), float(last))
+    jl = max(min(int(at), last - 1), first)
+    a = states[jl + off, col]
+    return a + (at - jl) * (states[min(jl + 1, last) + off, col] - a)
 
 
 def straight_start_arc(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, arc: np.ndarray,

@@ -38,7 +38,7 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.recognition import Recognition
 from behaviors.mop.refusal import Refusal, shape_limits
-from behaviors.mop import commitment, fresh_refusal
+from behaviors.mop import commitment, coverage, fresh_refusal
 from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
@@ -52,11 +52,12 @@ __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 #: The compiled kernels a follower's step calls from Python, loaded when it is built, not on
 #: the step that first calls one (behaviors.kernel_cache.load; what they call is in their code).
 _KERNELS = (window_kernel.step_windows, window_kernel.seat_windows, glitch.path_distance,
-            commitment.add_lagged_all, path_kernel.nearest_on_paths, overrun.overruns,
-            reversal.input_reversal, reversal.reversal_size, reversal.reversal_way,
-            reversal.went_on, reversal.sizes_again, size_probe.probe_allowed, size_probe.take_probe,
-            fresh_refusal.refuse, speed_profile.outpaces, speed_profile.turns_on,
-            halts.halts, tempo.before_attempt, tempo.span, tempo.slow_take)
+            commitment.add_lagged_all, coverage.arc_ahead, path_kernel.nearest_on_paths,
+            overrun.overruns, reversal.input_reversal, reversal.reversal_size,
+            reversal.reversal_way, reversal.went_on, reversal.sizes_again,
+            size_probe.probe_allowed, size_probe.take_probe, fresh_refusal.refuse,
+            speed_profile.outpaces, speed_profile.turns_on, halts.halts, tempo.before_attempt,
+            tempo.span, tempo.slow_take)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,

@@ -188,7 +188,8 @@ class GroupArrays:
             self._scale,
             self._k_center,
             np.concatenate([z(f, f.invariance == "offset") for f in fs]),
-            np.concatenate([z(f, f.invariance == "scale") for f in fs])]))
+            np.concatenate([z(f, f.invariance == "scale") for f in fs]),
+            np.concatenate([f._read_ahead for f in fs])[:, None]]))
         scalars = {"dims": lambda f: f.dim, "decay": lambda f: f._decay,
                    "null_decay": lambda f: f._null_decay, "log_constant": lambda f: f._log_constant,
                    "two_over": lambda f: 2.0 / f._zdim, "null2": lambda f: f._null2,

@@ -28,7 +28,7 @@ from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_l
                            size_probe, size_sums, spotting, tempo, threshold, threshold_kernel,
                            validity)
 from behaviors.mop.compiled import CONTRACT
-from behaviors.mop.coverage import RUN_AHEAD
+from behaviors.mop.coverage import RUN_AHEAD, arc_ahead
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
 from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, top_three
@@ -132,6 +132,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
     sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
+    ahead = tc.shape[1] - 1
     ra0, un0 = MC_ROWS, MC_ROWS + d                 # columns of mc
     # the path's segment means read from ``states``' rows (its first columns), which the pass
     # fetches around the followed state anyway, not from a copy of them as (D, S) rows: the
@@ -333,7 +334,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             misshaped[k] = (misshaped[k] or m2 > shape2) and not m2 < shape_accept2
             at = states[gf + off, arc]
             at += (g - gf) * (states[min(gf + 1, last) + off, arc] - at)
-            if engaged[k] and at >= t[3]:
+            # ... read at the best timing offset ahead where the need is the own straight start
+            # (tc's last column: coverage.arc_ahead)
+            if engaged[k] and (at >= t[3] or t[ahead] > 0.0 and arc_ahead(
+                    lags, k, g, start, last, states, off, arc) >= t[3]):
                 covered[k] = True
             # ... and not while it runs far ahead of where the input went (coverage.RUN_AHEAD)
             acc = 0.0

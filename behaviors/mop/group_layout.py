@@ -13,10 +13,13 @@ from behaviors.mop.commitment import COMMIT_LAGS
 #: first state. Read around each followed state: one contiguous stretch per template (the
 #: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
 STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
-#: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
-#: ``ufirst``, ``c_off`` of D columns each).
+#: Per-template scalars (columns of ``tc`` (K, 6 + 4D), then the rows ``scale``, ``center``,
+#: ``ufirst``, ``c_off`` of D columns each, then :data:`TEMPLATE_LAST`).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
+#: ... and ``tc``'s last column: 1 where coverage reads ahead
+#: (:func:`behaviors.mop.coverage.arc_ahead`), else 0.
+TEMPLATE_LAST = "_read_ahead"
 #: Per-member scalars (columns of ``mc`` (M, 37 + 2D + L), then the rows ``radius`` and
 #: ``units`` (D each) and :data:`~behaviors.mop.take_rule.TAKE_SIZES` from the estimate outwards
 #: (L); ``threshold`` infinite where a member has no threshold model). The rules' constants

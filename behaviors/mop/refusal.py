@@ -296,6 +296,8 @@ class Refusal(ThresholdLead):
         ends = b.starts + b.lengths - 1
         self._arc_need = self.coverage * self._arc[ends]
         self._arc_full = self._arc_need.copy()
+        self._arc_col = np.ascontiguousarray(self._arc[:, None])   # (coverage.arc_ahead)
+        self._read_ahead = np.zeros(len(self.names), dtype=bool)
         if self.invariance == "scale":
             # ... or less, where the template set tells the template's start from every other's
             # (coverage.told_apart_arc: the sizes shared starts try, the misfit's accept limit)
@@ -306,12 +308,15 @@ class Refusal(ThresholdLead):
                                            self.shape_accept * self.sigma)
             # ... or where the ideal observer tells it apart, though never on the template's
             # own straight start (coverage.OBSERVER, straight_start_arc)
-            seen = np.maximum(
-                coverage.told_apart_arc(rel, b.starts, b.lengths, self._arc,
-                                        np.ones_like(b.scale), sizes, coverage.OBSERVER),
-                coverage.straight_start_arc(rel, b.starts, b.lengths, self._arc,
-                                            coverage.OBSERVER))
-            np.minimum(self._arc_need, np.minimum(told, seen), out=self._arc_need)
+            seen = coverage.told_apart_arc(rel, b.starts, b.lengths, self._arc,
+                                           np.ones_like(b.scale), sizes, coverage.OBSERVER)
+            straight = coverage.straight_start_arc(rel, b.starts, b.lengths, self._arc,
+                                                   coverage.OBSERVER)
+            # (a need set by the own straight start is read at the best timing offset ahead:
+            # coverage.arc_ahead)
+            self._read_ahead = (straight >= seen) & (straight < told) & (straight < self._arc_need)
+            np.minimum(self._arc_need, np.minimum(told, np.maximum(seen, straight)),
+                       out=self._arc_need)
         self._misfit_decay = 1.0 - 1.0 / self.shape_memory
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2
@@ -387,9 +392,15 @@ class Refusal(ThresholdLead):
         self._misshaped |= m2 > self._shape2
         self._misshaped &= ~(m2 < self._shape_accept2)
         gi = np.floor(g).astype(np.intp)
-        nxt = np.minimum(gi + 1, self.bank.starts + self.bank.lengths - 1)
+        last = self.bank.starts + self.bank.lengths - 1
+        nxt = np.minimum(gi + 1, last)
         covered = self._arc[gi] + (g - gi) * (self._arc[nxt] - self._arc[gi])
-        self._covered |= (covered >= self._arc_need) & self._engaged
+        met = covered >= self._arc_need
+        # ... read at the best timing offset ahead where the need is the own straight start
+        for k in np.flatnonzero(self._read_ahead & ~met & self._engaged):
+            met[k] = coverage.arc_ahead(self._shape_lag, k, g[k], self.bank.starts[k],
+                                        last[k], self._arc_col, 0, 0) >= self._arc_need[k]
+        self._covered |= met & self._engaged
         # ... and not while it runs far ahead of where the input went (coverage.RUN_AHEAD)
         reach = self._displacement(np.mean(self._recent_x[-3:] + [x], axis=0))
         np.maximum(self._reached, reach, out=self._reached)
