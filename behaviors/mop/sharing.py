@@ -66,7 +66,8 @@ At the first sample every check passes (before the confirmation's) the true gest
 unrelated strokes after a gesture read alike (medians, tuned and held-out 101; the lead tuned):
 lead 16.8 / 13.1 nats, commitment's fit 2.1 / 2.3 still radii RMS, last drift 1.7 / 1.7, size
 change over 3 samples 0.007 / 0.005, probability 0.98 / 0.98; only strokes from rest advance slower
-(0.025 against 0.052 of progress over 3 samples)."""
+(0.025 against 0.052 of progress over 3 samples), and the lead's growth on that sample tells
+them apart more (:data:`~behaviors.mop.shape_lead.CONFIRM_GAIN`)."""
 
 from __future__ import annotations
 
