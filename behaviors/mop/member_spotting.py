@@ -10,6 +10,8 @@ method it equals.
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -84,6 +86,24 @@ def finished_short(peak: float, progress: float, crawls: bool) -> bool:
     """:func:`behaviors.mop.handover.finished` (its :data:`FINISH_CRAWLS` as compiled): the
     action driving, at highest progress ``peak``, ended though never reaching its end."""
     return peak >= FINISH_FROM and (peak - progress >= FINISH_BACK or (crawls and FINISH_CRAWLS))
+
+
+@compiled(numba.float64(_FA1, _FA1, _BA1, numba.intp, numba.intp, numba.intp, numba.float64),
+          *_CALLS_INTO)
+def lead_gain(shape: np.ndarray, drift: np.ndarray, refused: np.ndarray, a0: int, a1: int, k: int,
+              shape_n: float) -> float:
+    """:meth:`~behaviors.mop.shape_lead.ShapeLead._lead_gain`: how much the last sample widened
+    template ``k``'s shape lead (group index; its member's templates ``a0..a1``) over every other
+    not refused (``shape``: the sums, ``drift``: the last sample's terms; 0 before the gesture's
+    second sample or with no other)."""
+    now, before = math.inf, math.inf
+    for j in range(a0, a1):
+        if j != k and not refused[j]:
+            now = min(now, shape[j])
+            before = min(before, shape[j] - drift[j])
+    if shape_n < 2.0 or now == math.inf:
+        return 0.0
+    return now - shape[k] - (before - (shape[k] - drift[k]))
 
 
 @compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _BA1,

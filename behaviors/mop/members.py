@@ -27,9 +27,9 @@ from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
 from behaviors.mop.gesture_end import END_GRACE, RETURN_BACK, RETURN_RADIUS
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
-from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, moved_on, shares,
-                                          spot)
-from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
+from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, lead_gain,
+                                           moved_on, shares, spot)
+from behaviors.mop.shape_lead import COMMIT_FIT, CONFIRM_GAIN, DRIFT_SAMPLES, SHAPE_SPREAD
 from behaviors.mop.spotting import REANCHOR_RADII, UNSEEN_END
 from behaviors.mop.tempo import LEAST_TEMPO
 from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST, LEAP_STATES
@@ -277,7 +277,14 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         run_k[i] = bi
         # an action that reached its end drives at most END_GRACE samples more (gesture_end.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
-        val = run[i] >= m[3] and after_end[i] <= END_GRACE
+        # ... but a new action whose shape lead grew by CONFIRM_GAIN on its first sample is
+        # its own confirmation (shape_lead; floats' columns 7 and 11: _shape, _drift)
+        rn = float(run[i])
+        if spots and rn == 1.0 and acquired[i] != bi and lead_gain(
+                floats[:, 7], floats[:, 11], refused, bounds[i], a1, gb,
+                m_floats[4, i]) >= CONFIRM_GAIN * 2.0 * SHAPE_SPREAD ** 2:
+            rn = m[3]
+        val = rn >= m[3] and after_end[i] <= END_GRACE
         # shown valid only while the input does not overrun its path (member_validity.overruns);
         # the rules go on as if it were
         valid[i] = val and not (spots and overran[i])

@@ -413,7 +413,9 @@ class Recognition:
         # the reach 0.469 -> 0.50, twenty tuned 0.50 -> 0.531, no wrong run longer; but every
         # unrelated take committed to drives a sample sooner: unrelated mean 0.0100 -> 0.0107
         # (the diagonal among six 0.013 -> 0.035), after a gesture mean 0.045 -> 0.046.
-        valid = drives(self._run, self.confirm, self._after_end)
+        # (or on its first: shape_lead.CONFIRM_GAIN)
+        run = self.confirm if self._confirms_itself(bi) else self._run
+        valid = drives(run, self.confirm, self._after_end)
         if valid and self._drive_k != bi:
             self._drive_k = bi
             self._drive_from = self._drive_peak = progress_list[bi]

@@ -13,7 +13,7 @@ from tests.mop.helpers import run, solo
 #: group (measured): seed 112's sixth (a roll wrist, then the circle), seed 102's third (a
 #: line, then the circle) and seed 111's fifth (a spin kick wrist, then the circle); each
 #: circle's start is the spin wrist's path up to its turn.
-STREAMS = {"112": (112, 6, 135, 79), "102": (102, 3, 200, 112), "111": (111, 5, 110, 62)}
+STREAMS = {"112": (112, 6, 135, 81), "102": (102, 3, 200, 114), "111": (111, 5, 110, 63)}
 
 
 def _spin_on_circle_stream(name: str) -> tuple[dict, np.ndarray, list]:
@@ -46,8 +46,9 @@ def test_an_action_waiting_at_its_turn_is_not_shown_while_the_input_keeps_its_sp
 @pytest.mark.parametrize("name", sorted(STREAMS))
 def test_a_group_hides_an_action_at_its_turn_as_its_followers_alone(name):
     # member_validity.overruns calls speed_profile.outpaces, quickens and turns_on as the
-    # follower does: every state equal (valid ticks 79, 112 and 62; 81 and 115 without turns_on,
-    # 82 on 112 without either, 113 on 102 without quickens)
+    # follower does: every state equal (valid ticks 81, 114 and 63; before shape_lead.CONFIRM_GAIN
+    # 79, 112 and 62, and 81 and 115 without turns_on, 82 on 112 without either, 113 on 102
+    # without quickens)
     from tests.mop.helpers import group_beside_alone
     templates, x, _ = _spin_on_circle_stream(name)
     assert group_beside_alone(lambda: puck_follower(templates), [x]) == [STREAMS[name][3]]

@@ -25,7 +25,7 @@ def test_a_take_after_an_end_is_read_from_where_the_input_came_nearest_it(monkey
     # from where it began) and its take is refused on every tick (take_rule._fits_take). Read
     # also from where the input came nearest the dance's last point
     # (take_rule.TAKE_FROM_NEAREST): measured, the jump recognised at 0.37 of it (47 valid
-    # ticks); without, never
+    # ticks); without, never (at 0.73 with shape_lead.CONFIRM_GAIN: one sample fits there)
     templates, x, truth, prog = _ended_short_stream()
     g = "jump_left_ankle"
 
@@ -38,7 +38,7 @@ def test_a_take_after_an_end_is_read_from_where_the_input_came_nearest_it(monkey
     monkeypatch.setattr(take_rule, "TAKE_FROM_NEAREST", 0.0)
     plain = hits()
     assert now and now[0] <= 0.4 and len(now) >= 40, (now[:1], len(now))
-    assert not plain, plain[:1]
+    assert not plain or plain[0] >= 0.7, plain[:1]
 
 
 def test_a_group_reads_a_take_after_an_end_as_its_followers_alone():
