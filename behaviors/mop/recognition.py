@@ -46,7 +46,8 @@ from ``bench/follow_quality.py`` unless said otherwise.
   line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused, its followed
   progress past ``coverage`` of its path (or less, :mod:`behaviors.mop.coverage`) and the input on
   its path (``shape_*``, :mod:`behaviors.mop.refusal`), its spread at most ``max_spread`` (in
-  states), its end not yet reached, for ``confirm`` samples in a row. An action not yet driving
+  states), its end not yet reached, for ``confirm`` samples in a row (or one that alone widened
+  its shape lead by :data:`~behaviors.mop.shape_lead.CONFIRM_GAIN`). An action not yet driving
   must also lead every other likely template in shape since the gesture began, and one that reached
   its end drives at most two samples more (:mod:`behaviors.mop.spotting`).
 - Its own confirmation: the ``confirm`` samples are the action's own (``_run_k``: whose run it

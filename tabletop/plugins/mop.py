@@ -176,7 +176,9 @@ FOLLOWER = Record({
                          doc="smallest and largest size of a performance, x the recorded"),
     "switch_margin": Number(1.0, lo=0.0,
                             doc="nats: another action takes over once this much likelier"),
-    "confirm": Number(2, integer=True, lo=1, hi=100, doc="samples a match must last to drive"),
+    "confirm": Number(2, integer=True, lo=1, hi=100,
+                      doc="samples a match must last to drive (one that alone puts a new action "
+                          "far ahead in shape drives at once)"),
     "hold_tolerance": Number(0.02, lo=0.0, hi=1.0,
                              doc="a template's held stretch (within this of its spread) may last "
                                  "any time"),
