@@ -331,6 +331,15 @@ probable 0.31-0.33; the spin ankle (2, 0.38-0.40) covered 0.30-0.33, unshared 0.
 wrist (0.39) engaged only at 0.29; the roll ankle (0.23-0.33) covered at 0.20-0.21, probable at
 0.17-0.31; the line and the square shared to 0.37-0.41. Coverage met sooner leaves each of them
 past 0.2 (the ceiling with no coverage at all, 0.41, above).
+Held out, the zigzag covered at 2.6% drives the seeds' wanders after a gesture (taken at
+0.155-0.183 of it where the observer tells it from them by 0.08-0.14; traced in
+:mod:`~behaviors.mop.shape_lead`). Measured and not kept, :data:`EARLY_FIT` 0.25 -> 0.12
+(``bench/follow_seeds.py``, 101-112): after a gesture worst 105 0.214 -> 0.192, 106 0.178 ->
+0.110, 107 0.302 -> 0.243, 111 0.149 -> 0.143, but twenty templates within 20% 102 0.406 ->
+0.344, 105 0.219 -> 0.188, 106 0.313 -> 0.281, 107 0.344 -> 0.313, 112 0.375 -> 0.344 (the
+clips covered sooner); 0.18: 107 0.282, 102 still 0.344; 0.06: 107 0.161, tuned six within 20%
+0.156 -> 0.125, twenty 0.406 -> 0.344. Past 8% of its path (0.24 of it) the zigzag is covered
+whatever its fit, where most of those ticks lie.
 """
 
 from __future__ import annotations

@@ -216,6 +216,27 @@ What is left, traced tick by tick (the tuned ``after`` and ``unrelated`` perform
   after 30% at 0.7-1.4x 0.9125 / 0.9030 -> 0.9034 / 0.8800, unrelated worst 0.228 / 0.406 ->
   0.221 / 0.358, after a gesture worst 0.198 / 0.247 unchanged; first 3 beyond 10: 0.9085 /
   0.8958, 0.228 / 0.406 and 0.198 / 0.247 unchanged.
+- Held out, an unrelated stroke right after a gesture (``bench/follow_seeds.py --sections=after``,
+  worst motion 105 0.214, 106 0.178, 107 0.302, 111 0.149) is on every one of those seeds the
+  ``wander`` (the seed's own random walk), after any of the six gestures, traced per tick
+  (``bench.spotting_reach.gate_state``, every motion over 0.12): the zigzag drives 314 of 324
+  valid ticks on 105, 136 of 143 on 106, 467 of 480 on 107; on 111 the wave 194 of 206. The
+  zigzag is taken 7-30 samples into the wander at 0.155-0.183 of itself (covered at 2.6% of its
+  path, :mod:`~behaviors.mop.coverage`) and drives to 0.26-0.29 (once 0.44), its first tooth's
+  bottom, valid on up to 47 samples while the wander hovers or strays 10-20 mm about it; the wave is
+  taken at 0.26-0.29 and drives to 0.38-0.44. Every gate passes on every one of those ticks (but
+  7 on 111, not leading), and the drift does not grow 6 samples in a row. These are no starts of
+  those gestures: the bench's observer tells the zigzag from each of these wanders (any size and
+  tempo, ``bench.spotting_reach.earliest``) at 2 mm by 0.08-0.14 of it (4 mm: 0.17-0.20), the
+  wave by 0.07-0.09, and ``told`` (4 mm) reads 95% of the driven ticks as no start (105 256 of
+  314, 106 and 111 all, 107 446 of 467): the bench reads them as it defines them. Measured and
+  not kept, the followed state stalled while the input moves on: an action under 0.9 of itself
+  stops driving while its progress moved less than 0.01 over the last 6 samples and the input
+  (means of 3 samples) more than 5 mm: 107's worst 0.302 -> 0.230, but 108's sized valid after
+  30% at 0.7-1.4x 0.9056 -> 0.8938; 10 samples and 8 mm: 0.251, 0.8998; 10 and 12 mm under 0.6:
+  0.282, 0.9030. Replayed over the valid ticks (tuned, 101, 108 and 111 sized; 105-107, 111 and
+  tuned strokes), 6 / 5 mm stops 0.67% of true ticks against 14% of the strokes' (10 / 8 mm:
+  0.41%, 5.8%): true actions stall so too, at 0.35-0.67 of them, where the follower lags.
 """
 
 from __future__ import annotations
