@@ -340,6 +340,25 @@ Held out, the zigzag covered at 2.6% drives the seeds' wanders after a gesture (
 clips covered sooner); 0.18: 107 0.282, 102 still 0.344; 0.06: 107 0.161, tuned six within 20%
 0.156 -> 0.125, twenty 0.406 -> 0.344. Past 8% of its path (0.24 of it) the zigzag is covered
 whatever its fit, where most of those ticks lie.
+The early coverage held to the misfit since the template engaged, measured and not kept
+(``bench/follow_seeds.py --seeds=105,106,107,111 --sections=after,sequences,sized``; before: after a
+gesture worst 0.214 / 0.178 / 0.302 / 0.149, sized 0.920 / 0.910 / 0.925 / 0.907). Its mean or its
+largest within :data:`EARLY_FIT` besides the current: nothing moves (sized 107 0.924). On 107's
+circle then wander at 0.7 the zigzag engages 20 samples in at 0.02, is best at 24 at 0.025 and
+drives 25-30 as its misfit rises to 0.23 (so its largest since), is uncovered from 31 (0.30, 0.61 by
+37) and covered again at 40 by 8% of its path at 0.43-0.57, driving 43-58. Its largest while short
+of 8% held past it (uncovered for the rest of the performance once over): 0.25: after 0.158 / 0.071
+/ 0.168 / 0.149, but sized 0.800-0.815, twenty within 20% 106 0.313 -> 0.281; 0.4: after 0.158 /
+0.178 / 0.168 / 0.149, sized 0.891-0.897. Counted only from its first sample covered short of 8%:
+0.25 sized 0.823-0.852 (within 20% as at 0.25 above); 0.4 sized 0.910 / 0.901 / 0.905 / 0.897; 0.5
+and 0.58 after 0.158 / 0.178 / 0.168 / 0.149, sized 0.910 / 0.910 / 0.915 / 0.907, within 20%
+unchanged. 0.5 on 101-112: after 103 0.082 -> 0.080, 105 0.158, 107 0.168 (106 0.178, 111 0.149, 110
+0.101 unchanged), sized 103 0.921 -> 0.911, 104 0.914 -> 0.904, 105 0.910, 107 0.915, unrelated told
+103 0.043 -> 0.030, 106 0.044 -> 0.031, 109 0.064 -> 0.049, but twenty within 20% 108 0.313 -> 0.281
+(with reach 107 0.563 -> 0.500, 108 0.656 -> 0.625); ``bench/follow_quality.py``: sized 0.6-1.5
+edges valid after 30% 0.760 -> 0.620 (held-out 0.767 -> 0.743), recognised by the end 0.975 ->
+0.800, six gestures never recognised 0 -> 0.016 (a true gesture off its path early stays
+uncovered).
 """
 
 from __future__ import annotations
