@@ -38,7 +38,7 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.recognition import Recognition
 from behaviors.mop.refusal import Refusal, shape_limits
-from behaviors.mop import commitment, coverage, fresh_refusal
+from behaviors.mop import commitment, coverage, fresh_refusal, member_spotting
 from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
@@ -57,7 +57,7 @@ _KERNELS = (window_kernel.step_windows, window_kernel.seat_windows, glitch.path_
             reversal.reversal_way, reversal.went_on, reversal.sizes_again,
             size_probe.probe_allowed, size_probe.take_probe, fresh_refusal.refuse,
             speed_profile.outpaces, speed_profile.turns_on, halts.halts, tempo.before_attempt,
-            tempo.span, tempo.slow_take)
+            tempo.span, tempo.slow_take, member_spotting.lead_gain)
 
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,

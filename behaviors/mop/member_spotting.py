@@ -92,10 +92,10 @@ def finished_short(peak: float, progress: float, crawls: bool) -> bool:
           *_CALLS_INTO)
 def lead_gain(shape: np.ndarray, drift: np.ndarray, refused: np.ndarray, a0: int, a1: int, k: int,
               shape_n: float) -> float:
-    """:meth:`~behaviors.mop.shape_lead.ShapeLead._lead_gain`: how much the last sample widened
-    template ``k``'s shape lead (group index; its member's templates ``a0..a1``) over every other
-    not refused (``shape``: the sums, ``drift``: the last sample's terms; 0 before the gesture's
-    second sample or with no other)."""
+    """How much the last sample widened template ``k``'s shape lead (group index; its member's
+    templates ``a0..a1``) over every other not refused (``shape``: the sums, ``drift``: the last
+    sample's terms; 0 before the gesture's second sample or with no other). A follower alone
+    calls it over its own templates (:meth:`~behaviors.mop.shape_lead.ShapeLead._lead_gain`)."""
     now, before = math.inf, math.inf
     for j in range(a0, a1):
         if j != k and not refused[j]:

@@ -244,6 +244,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.commitment import add_lagged_all
+from behaviors.mop.member_spotting import lead_gain
 from behaviors.mop.rivals import broad_rivals
 from behaviors.mop.take_rule import TakeRule
 # (the take rule's thresholds, as other modules and the tests read them here)
@@ -360,14 +361,10 @@ class ShapeLead(TakeRule):
     def _lead_gain(self, bi: int) -> float:
         """How much the last sample widened ``bi``'s shape lead over every other template not
         refused (squared still radii, :meth:`_add_shape`'s terms; 0 on a gesture's first sample
-        or with no other)."""
-        others = ~self._refused
-        others[bi] = False
-        if self._shape_n < 2 or not others.any():
-            return 0.0
-        before = self._shape - self._drift
-        return float(self._shape[others].min() - self._shape[bi]
-                     - (before[others].min() - before[bi]))
+        or with no other): the group's kernel, :func:`~behaviors.mop.member_spotting.lead_gain`,
+        over this follower's templates."""
+        return lead_gain(self._shape, self._drift, self._refused, 0, len(self._shape), bi,
+                         float(self._shape_n))
 
     def _leads(self, bi: int, p: np.ndarray, progress: np.ndarray) -> bool:
         """Whether ``bi`` explains the gesture's shape (:meth:`_add_shape`'s sums since it
