@@ -216,7 +216,9 @@ class GroupArrays:
                    "early_fit2": lambda f: coverage.EARLY_FIT ** 2,
                    "tempo_end_from": lambda f: spotting.TEMPO_END_FROM,
                    "arrive_radius": lambda f: gesture_end.ARRIVE_RADIUS,
-                   "rested_lifts": lambda f: validity.RESTED_LIFTS}
+                   "rested_lifts": lambda f: validity.RESTED_LIFTS,
+                   "late_fit2": lambda f: coverage.LATE_FIT ** 2,
+                   "late_until": lambda f: coverage.LATE_UNTIL}
         cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])

@@ -347,10 +347,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             reached[k] = max(reached[k], math.sqrt(acc / dims))
             if at > RUN_AHEAD * reached[k]:
                 covered[k] = False
-            # ... and, covered short of ``coverage`` of its path, not while off it by > EARLY_FIT
-            # (m[33]: coverage.EARLY_FIT squared)
+            # ... and, covered sooner, not while off its path by > EARLY_FIT short of
+            # ``coverage`` of it, nor by > LATE_FIT past it until it has gone on by LATE_UNTIL
+            # times the arc it was let off (m[33], m[37]: coverage.EARLY_FIT, LATE_FIT squared;
+            # m[38]: LATE_UNTIL)
             full = m[24] * states[last + off, arc]
-            if t[3] < full and at < full and m2 > m[33]:
+            if (t[3] < full and at < full + m[38] * (full - t[3])
+                    and m2 > (m[33] if at < full else m[37])):
                 covered[k] = False
             # shape sums (ShapeLead._leads) and displacement (early feedback)
             acc = 0.0

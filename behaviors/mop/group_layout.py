@@ -20,7 +20,7 @@ TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
 #: ... and ``tc``'s last column: 1 where coverage reads ahead
 #: (:func:`behaviors.mop.coverage.arc_ahead`), else 0.
 TEMPLATE_LAST = "_read_ahead"
-#: Per-member scalars (columns of ``mc`` (M, 37 + 2D + L), then the rows ``radius`` and
+#: Per-member scalars (columns of ``mc`` (M, 39 + 2D + L), then the rows ``radius`` and
 #: ``units`` (D each) and :data:`~behaviors.mop.take_rule.TAKE_SIZES` from the estimate outwards
 #: (L); ``threshold`` infinite where a member has no threshold model). The rules' constants
 #: among them are read where the group is built, as the followers' own constants are, so a
@@ -35,15 +35,16 @@ TEMPLATE_LAST = "_read_ahead"
 #: (:data:`~behaviors.mop.validity.REST_BEHIND`, ``TAKEN_PERFORMED``), ``early_fit2``
 #: (:data:`~behaviors.mop.coverage.EARLY_FIT` squared), ``tempo_end_from``
 #: (:data:`~behaviors.mop.handover.TEMPO_END_FROM` as :mod:`~behaviors.mop.spotting` imports
-#: it), ``arrive_radius`` (:data:`~behaviors.mop.gesture_end.ARRIVE_RADIUS`) and ``rested_lifts``
-#: (:data:`~behaviors.mop.validity.RESTED_LIFTS`: 1 or 0).
+#: it), ``arrive_radius`` (:data:`~behaviors.mop.gesture_end.ARRIVE_RADIUS`), ``rested_lifts``
+#: (:data:`~behaviors.mop.validity.RESTED_LIFTS`: 1 or 0), ``late_fit2`` and ``late_until``
+#: (:data:`~behaviors.mop.coverage.LATE_FIT` squared, ``LATE_UNTIL``).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
                   "rejudge_at", "keep", "reversal_move2", "coverage", "take_fit2", "carry_first",
                   "crawl_samples", "crawl_hovers", "unjudged_at_rest", "unweighed_at_rest",
                   "rest_behind", "taken_performed", "early_fit2", "tempo_end_from",
-                  "arrive_radius", "rested_lifts")
+                  "arrive_radius", "rested_lifts", "late_fit2", "late_until")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 #: 4 ahead (DESIGN's tick, alternating processes, load 18-22): update_templates p10 731, 770 ->
 #: 691, 749 us, but the tick's median 1990 -> 2025 us in the second pair: not taken.

@@ -405,10 +405,13 @@ class Refusal(ThresholdLead):
         reach = self._displacement(np.mean(self._recent_x[-3:] + [x], axis=0))
         np.maximum(self._reached, reach, out=self._reached)
         self._covered &= covered <= coverage.RUN_AHEAD * self._reached
-        # ... and, covered sooner and short of ``coverage`` of its path, not while it is off its
-        # path by more than coverage.EARLY_FIT
-        self._covered &= ((self._arc_need >= self._arc_full) | (covered >= self._arc_full)
-                          | (m2 <= coverage.EARLY_FIT ** 2))
+        # ... and, covered sooner, not while it is off its path by more than coverage.EARLY_FIT
+        # short of ``coverage`` of its path, nor by more than LATE_FIT past it until it has gone
+        # on by LATE_UNTIL times the arc it was let off
+        early = self._arc_need < self._arc_full
+        fit2 = np.where(covered < self._arc_full, coverage.EARLY_FIT, coverage.LATE_FIT) ** 2
+        until = self._arc_full + coverage.LATE_UNTIL * (self._arc_full - self._arc_need)
+        self._covered &= ~early | (covered >= until) | (m2 <= fit2)
 
     def _recent_dist2(self, k: int) -> float:
         """Template ``k``'s recent likelihood as a squared distance in its own spread (the

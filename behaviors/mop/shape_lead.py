@@ -236,7 +236,10 @@ What is left, traced tick by tick (the tuned ``after`` and ``unrelated`` perform
   30% at 0.7-1.4x 0.9056 -> 0.8938; 10 samples and 8 mm: 0.251, 0.8998; 10 and 12 mm under 0.6:
   0.282, 0.9030. Replayed over the valid ticks (tuned, 101, 108 and 111 sized; 105-107, 111 and
   tuned strokes), 6 / 5 mm stops 0.67% of true ticks against 14% of the strokes' (10 / 8 mm:
-  0.41%, 5.8%): true actions stall so too, at 0.35-0.67 of them, where the follower lags.
+  0.41%, 5.8%): true actions stall so too, at 0.35-0.67 of them, where the follower lags. Kept
+  instead: the zigzag held to its path a while past 8% of it
+  (:data:`~behaviors.mop.coverage.LATE_FIT`): 105 0.137, 106 0.071, 107 0.095; 111's wave
+  unchanged.
 """
 
 from __future__ import annotations

@@ -121,12 +121,12 @@ def solo(follower) -> "FollowerGroup":
     gestures loaded). Not for a run whose rule is switched off by patching a constant the
     group's kernels compile in (most of validity's and tempo's, a patched Validity method):
     those keep to the follower. Constants read where the follower or the group is built
-    (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER, EARLY_FIT,
-    shape_lead.TAKE_FIT, take_rule.TAKE_SIZES, validity.CARRY_FIRST, UNJUDGED_AT_REST,
-    UNWEIGHED_AT_REST, REST_BEHIND, TAKEN_PERFORMED, RESTED_LIFTS, tempo.CRAWL_SAMPLES and
-    CRAWL_HOVERS, spotting.TEMPO_END_FROM, gesture_end.ARRIVE_RADIUS: patch them before the
-    group is built) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD, shape_lead.LEAD and
-    bends' (read at each step) reach both."""
+    (invariance.REACH_BOUND, REJUDGE, REVERSAL_FIT, coverage.OBSERVER, EARLY_FIT, LATE_FIT,
+    LATE_UNTIL, shape_lead.TAKE_FIT, take_rule.TAKE_SIZES, validity.CARRY_FIRST,
+    UNJUDGED_AT_REST, UNWEIGHED_AT_REST, REST_BEHIND, TAKEN_PERFORMED, RESTED_LIFTS,
+    tempo.CRAWL_SAMPLES and CRAWL_HOVERS, spotting.TEMPO_END_FROM, gesture_end.ARRIVE_RADIUS:
+    patch them before the group is built) and take_rule.TAKE_MISFIT2, threshold.CARRY_LEAD,
+    shape_lead.LEAD and bends' (read at each step) reach both."""
     from behaviors.mop.group import FollowerGroup
     return FollowerGroup([follower])
 

@@ -330,9 +330,11 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     # stops whether refusal is judged at rest or not; with the last samples' fit,
     # take_rule.TAKE_MISFIT2, lifted here: with it 19 vs 22)
     monkeypatch.setattr(take_rule, "TAKE_MISFIT2", math.inf)
-    # ... and with no straight stroke's stray hidden (bends.STRAYS; with it 29 vs 33)
-    from behaviors.mop import bends
+    # ... and with no straight stroke's stray hidden (bends.STRAYS; with it 29 vs 33), nor a
+    # start covered sooner held to its path past coverage (coverage.LATE_FIT; with it 34 vs 38)
+    from behaviors.mop import bends, coverage
     monkeypatch.setattr(bends, "STRAYS", 0.0)
+    monkeypatch.setattr(coverage, "LATE_FIT", math.inf)   # read where the group is built
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates, performance, unrelated_motions
     from behaviors.mop import validity

@@ -75,17 +75,16 @@ def _draw(seed: int, scale) -> np.ndarray:
     return _paused(seed, scale) if isinstance(scale, str) else _wander(seed, scale)
 
 
-# each constant changed as a test switches its rule off, and a draw it changes: measured valid
-# ticks with the group of one (rule on / changed) seed 1 0.7x 7 / 39 (CARRY_FIRST), seed 4 1.4x
-# 13 / 19 (CRAWL_SAMPLES, CRAWL_HOVERS), seed 6 1.4x 1 / 10 (TAKE_SIZES), seed 5 1x 0 / 21
-# (UNJUDGED_AT_REST), seed 4 1.4x 13 / 2 (TAKEN_PERFORMED), seed 2 1x 6 / 22 (EARLY_FIT); the
-# zigzag paused, seed 0 104 / 75 (UNWEIGHED_AT_REST); the wave there and back, seed 1, with the
-# last samples' fit (take_rule.TAKE_MISFIT2, read at each step) lifted in both: 61 / 88
-# (REST_BEHIND); the six gestures back to back, seed 2, its first 60 samples: 19 / 23
-# (TEMPO_END_FROM), 19 / 21 (ARRIVE_RADIUS), its first 210: 102 / 103 (shape_lead.LEAD, read at
-# each step; the whole chain 213 / 218, 222, 214); the mirrored line, seed 3
-# 1x, with the threshold model afresh at an abandonment (threshold.CARRY_LEAD, read at each
-# step) in both: 0 / 18 (RESTED_LIFTS)
+# each constant changed as a test switches its rule off, and a draw it changes: measured valid ticks
+# with the group of one (rule on / changed) seed 1 0.7x 7 / 39 (CARRY_FIRST), seed 4 1.4x 13 / 19
+# (CRAWL_SAMPLES, CRAWL_HOVERS), seed 6 1.4x 1 / 10 (TAKE_SIZES), seed 5 1x 0 / 21
+# (UNJUDGED_AT_REST), seed 4 1.4x 13 / 2 (TAKEN_PERFORMED), seed 2 1x 6 / 22 (EARLY_FIT), seed 2
+# 0.7x 0 / 6 (LATE_FIT); the zigzag paused, seed 0 104 / 75 (UNWEIGHED_AT_REST); the wave there and
+# back, seed 1, with the last samples' fit (take_rule.TAKE_MISFIT2, read at each step) lifted in
+# both: 61 / 88 (REST_BEHIND); the six gestures back to back, seed 2, its first 60 samples: 19 / 23
+# (TEMPO_END_FROM), 19 / 21 (ARRIVE_RADIUS), its first 210: 102 / 103 (shape_lead.LEAD, read at each
+# step; the whole chain 213 / 218, 222, 214); the mirrored line, seed 3 1x, with the threshold model
+# afresh at an abandonment (threshold.CARRY_LEAD, read at each step) in both: 0 / 18 (RESTED_LIFTS)
 @pytest.mark.parametrize("module, name, value, seed, scale", [
     (validity, "CARRY_FIRST", -1.0, 1, 0.7),
     (tempo, "CRAWL_SAMPLES", 0, 4, 1.4),
@@ -96,6 +95,7 @@ def _draw(seed: int, scale) -> np.ndarray:
     (validity, "REST_BEHIND", -1.0, 1, "back wave"),
     (validity, "TAKEN_PERFORMED", math.inf, 4, 1.4),
     (coverage, "EARLY_FIT", math.inf, 2, 1.0),
+    (coverage, "LATE_FIT", math.inf, 2, 0.7),
     (spotting, "TEMPO_END_FROM", 9.0, 2, "chain 60"),
     (gesture_end, "ARRIVE_RADIUS", 0.0, 2, "chain 60"),
     (shape_lead, "LEAD", 0.0, 2, "chain 210"),

@@ -352,11 +352,13 @@ def test_an_action_does_not_hold_a_performer_resting_behind_where_it_began(gestu
     # Measured: valid ticks in the resting tails 0 (25 without; 50 without it and without
     # the strained rule of invariance.PerformanceFrame._reversal_sizes, which keeps the zigzag
     # strained at its turn from being sized). The zigzag covered sooner than 8% of its path
-    # (coverage.told_apart_arc) is refused on its way back by coverage.EARLY_FIT before it rests
-    # (valid to sample 90 of the first draw, 100 without): lifted, so this rule is what stops it
+    # (coverage.told_apart_arc) is refused on its way back by coverage.EARLY_FIT (and LATE_FIT)
+    # before it rests (valid to sample 90 of the first draw, 100 without): lifted, so this rule
+    # is what stops it
     from behaviors.mop import coverage, validity
 
-    monkeypatch.setattr(coverage, "EARLY_FIT", math.inf)   # both read where the group is built
+    monkeypatch.setattr(coverage, "EARLY_FIT", math.inf)   # all read where the group is built
+    monkeypatch.setattr(coverage, "LATE_FIT", math.inf)
     streams = [_there_and_back(gestures, n, s) for n in ("wave", "zigzag") for s in (0, 1)]
     f = solo(puck_follower(gestures))
     now = sum(sum(s.valid for s in run(f, x)[-25:]) for x in streams)
