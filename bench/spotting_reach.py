@@ -51,9 +51,19 @@ corner, where the two part: no follower tells them apart sooner. Among all twent
 seeds 101-112, ``bench/follow_seeds.py --sections=sequences``): 0.62-1.0 of the wrong ticks
 indistinguishable per seed; the runs of 3-4 (101, 106, 107, 109) are the ended action still
 driving while the next gesture has moved 0.0-1.3 mm from its start (0.000-0.066 of it), or the
-line on the square's first side (106, 1.7-1.9 mm); the avoidable longest 0-2 but 108's 3 (the
-circle at 0.31-0.34 of it, 3.2-4.1 mm from every start of the spin's wrist path). The observer
-costs 0.05 CPU s of the 40 s a six-seed sequences run takes (its answers kept per template set).
+line on the square's first side (106, 1.7-1.9 mm); the avoidable longest 0-2 (108's 3, the spin
+wrist on a circle drawn 1.2x at 0.31-0.34 of it, is 2 since
+:data:`behaviors.mop.speed_profile.QUICK_AHEAD`). The observer costs 0.05 CPU s of the 40 s a
+six-seed sequences run takes (its answers kept per template set).
+
+How near that run was: the circle at 0.31 / 0.33 / 0.34 of it lies 3.21 / 4.05 / 3.31 mm from
+every start of the spin's wrist path on :func:`closest_start`'s grid (40 sizes, 15 lengths),
+2.25-2.48 mm on a fine one (400 sizes, 300 lengths, 24 or 60 points): avoidable either way by
+the definition here (both paths resampled by arc length, compared point by point). Matched at
+any timing of the two instead (the discrete Frechet distance, 60 points against 600 of the
+spin's, 120 sizes) it lies 1.21 / 1.23 / 1.51 mm from one (the spin at 1.05-1.07x, up to
+0.23-0.25 of its path): a pointwise match by arc length is one timing of many, so this observer
+tells paths apart sooner than one matching them at any timing would.
 
     python bench/spotting_reach.py [--debug]
 """

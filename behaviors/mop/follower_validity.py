@@ -93,7 +93,7 @@ class Validity:
                 b.means, lo, int(b.lengths[k]), 0, b.scale[k], self._no_offset,
                 self._first_z[k], self._anchor, x, past[-speed_profile.RECENT][1],
                 past[-speed_profile.BACK][1], float(g[k] - lo), progress, float(self._size[k]),
-                self.sigma):
+                float(past[-1][2][k]), self.sigma):
             return True
         return bool(speed_profile.turns_on(
             b.means, lo, int(b.lengths[k]), 0, b.scale[k], self._no_offset, self._first_z[k],

@@ -270,7 +270,8 @@ def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, 
         # (speed_profile.quickens, this sample)
         waits = waits or speed_profile.quickens(
             ms, start, length, off, sc, uf, co, an, x[i, :dm], x_recent, x_back,
-            min(mean[gb], length - 1.0), progress[gb], size[gb], sigma)
+            min(mean[gb], length - 1.0), progress[gb], size[gb], tempo_s[(at[i] - 1) % w, gb],
+            sigma)
         # ... or the input goes on off the way it turns (speed_profile.turns_on, this sample)
         out[i] = waits or speed_profile.turns_on(
             ms, start, length, off, sc, uf, co, an, x[i, :dm], x_recent, x_back,

@@ -167,7 +167,9 @@ def test_a_narrower_action_alike_in_shape_waits_for_a_broader_one(gestures, monk
     # the circle recognised at 0.450 / 0.445 either way; a group the same as its follower alone.
     # Without rivals.BROADER the spin drives 5 / 7 ticks of the circle (0.287-0.376 / 0.258-0.355
     # of it); speed_profile.quickens hides the last of them (the spin at 0.276-0.283 of itself,
-    # where its template slows into its turn while the circle's input quickens): 4 / 5
+    # where its template slows into its turn while the circle's input quickens): 4 / 5; and
+    # reading the state after the followed one too while the spin's size grows
+    # (speed_profile.QUICK_AHEAD): 4 / 4
     from bench.motions import MOCAP_HELD_OUT, mocap_templates
     from behaviors.mop import rivals
     templates = {**gestures, **mocap_templates(joints=MOCAP_HELD_OUT)}
@@ -179,7 +181,7 @@ def test_a_narrower_action_alike_in_shape_waits_for_a_broader_one(gestures, monk
     (circle25, run25), (circle29, run29) = circle(25), circle(29, group=True)
     assert run25 <= 2 and run29 <= 1 and max(circle25, circle29) <= 0.46
     monkeypatch.setattr(rivals, "BROADER", math.inf)
-    assert circle(25)[1] >= 4 and circle(29)[1] >= 5
+    assert circle(25)[1] >= 4 and circle(29)[1] >= 4
 
 
 def test_a_sample_that_widens_the_lead_enough_is_its_own_confirmation(gestures, monkeypatch):
