@@ -81,6 +81,34 @@ runs unchanged (the tuned mirrored strokes among twenty 0.035 -> 0.038); ``bench
 target newly missed; 107's after-a-gesture worst (over its bound before) 0.296 -> 0.302, 110's
 unrelated worst 0.081 -> 0.085. Screened: 12 nats: held-out unrelated worst 0.091 -> 0.099, tuned
 twenty's avoidable wrong run 1 -> 2 (its bound); 24: that run 1 -> 2, every share as at 36.
+What holds the wave and the zigzag back to back past 0.2, traced per tick
+(``bench.spotting_reach.gate_state``, from the observer's reach to recognition; the six gestures of
+``bench/follow_quality.py``'s sequences, tuned and held-out 101-103, 105): the wave in 28 of 28,
+held last by coverage with probability and ``best`` (commitment waits for it) in 22 (coverage and
+more in 27), then the confirmation's sample; its lead widens 1-4 nats a sample there (its start the
+figure eight's, left gradually): no one sample tells it. The zigzag in 7 of 26, held last by
+probability and ``best`` in 4 (coverage too in 2, coverage alone 1): commitment fails on its fit
+alone (1.75-3.7 still radii at the best timing offset: the follower lags the fast zigzag) while it
+leads every template by 16-26 nats, that sample widening its lead by 13.6-16.2 (the square ``best``
+by ``switch_margin``, the zigzag 0.19-0.59 probable); the next sample (0.18-0.22) it is best and
+probable, and drives on it only with a gain of 36 (31-39 there), else a sample later. Measured and
+not kept, a lead that leaps: a template whose lead widened by 12 nats on the sample committed to
+within a fit of 3 still radii, and, committed to, its own confirmation at 12 nats.
+``bench/follow_quality.py`` (tuned / held-out): six within 20% 0.156 / 0.125 -> 0.188 / 0.156 (the
+zigzag 0.83 / 0.80 -> 1 / 1), open 0.294 / 0.308 -> 0.353 / 0.385, or by the reach + 0.05 0.50 /
+0.50 -> 0.531 / 0.531, sized 0.921 / 0.926 -> 0.924 / 0.927, every worst unchanged;
+``bench/follow_seeds.py`` 101-106 / 107-112: six within 20% (mean) 0.104 / 0.109 -> 0.130 / 0.141,
+open 0.209 / 0.221 -> 0.270 / 0.282, but after a gesture worst (over its bound before) 106 0.178 ->
+0.181 and 107 0.302 -> 0.305, unrelated worst 104 0.079 -> 0.096, a template's own stroke told 109
+0.091 -> 0.094, twenty within 20% 107 0.344 -> 0.313. Its leaps on 107's strokes after a gesture
+(the zigzag: fit 1.8-2.7, lead 18-50 nats, gain 13-24, 0.15-0.65 probable, 5-11 samples in) read as
+the true zigzags' back to back (1.75-2.5, 22-33, 12-16, 0.16-0.35, 5-8). The fit 2.5: as 3 (the
+held-out zigzag at 2.49); a gain of 16: the held-out zigzag (15.2) not freed; 10: tuned twenty by
+the reach + 0.05 0.50 -> 0.53, unrelated mean 0.0084 -> 0.0085. The wider fit alone (``COMMIT_FIT``
+2 / 2.5): no within-20% share up, held-out twenty's or by the reach + 0.05 0.688 -> 0.656, unrelated
+worst 0.058 -> 0.065 / 0.070; the confirmation alone (12 nats, committed to within ``COMMIT_FIT``):
+within 20% unchanged, by the reach + 0.05 0.375 / 0.406 -> 0.438 / 0.469, unrelated worst 104 0.079
+-> 0.082.
 
 Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
 longest, where the six gestures' paths part, is 2 ticks.
