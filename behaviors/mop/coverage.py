@@ -382,7 +382,11 @@ on 103 the 0.7x roll wrist 0.902 -> 0); 0.3 to twice ``coverage`` for every temp
 108's longest avoidable wrong run among twenty 3 -> 2, but twenty within 20% or by reach + 0.05 107
 0.563 -> 0.531, 108 0.656 -> 0.625 (the crawl ankle, let off 32%, recognised 0.231 -> 0.269; the
 circle among six 0.296 -> 0.344); 0.3 or 0.4 to 1.5 times ``coverage``: 105 0.211 (the zigzag
-driving past it).
+driving past it). For templates covered at ``coverage`` (111's wave), not kept: 0.5 to three times
+it: after 110 0.101 -> 0.076, 111 0.149 -> 0.108, but six within 20% or by reach + 0.05 101 0.500 ->
+0.469, twenty within 20% 108 0.313 -> 0.281, sized 108 0.906 -> 0.901; 0.45-0.5 to twice: 111
+0.131, held-out six by reach + 0.05 0.500 -> 0.469 (``bench/follow_quality.py``). 110's worst is one
+motion, the wave then the diagonal (0.7x 0.138), the figure eight driving much of it on its path.
 """
 
 from __future__ import annotations
