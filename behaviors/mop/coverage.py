@@ -44,32 +44,9 @@ held-out gain; half the misfit's refusal limit (0.6 sigma, no fit; the zigzag
 of their paths, no fit): the open three 0.294 (the wave 0.14), unrelated worst 0.083, after a
 gesture without the eight 0.093. The wave's and the circle's starts are the figure eight's and the
 line's: lowering theirs takes strokes those share.
-Or sooner where the ideal observer tells it apart (:data:`OBSERVER`, 2 mm, as
-``bench/spotting_reach.py``'s), though never before the template's own path leaves its chord by
-as much (:func:`straight_start_arc`: a straight start is the start of any stroke in its
-direction): the six gestures keep theirs, nine clips among twenty go to 2.6-7.5% of their path
-(the backflip wrist 8 -> 2.6%). Kept for the gesture-after-gesture target it moves, against a
-tuned unrelated mean that stays ten times under its bound. ``bench/follow_quality.py``: twenty
-templates back to back recognised within 20% 0.344 / 0.344 -> 0.406 / 0.375 (tuned / held-out),
-from rest median 0.345 -> 0.301, held-out sized 0.9109 -> 0.9112, held-out unrelated mean 0.0113
--> 0.0110; tuned unrelated mean 0.0097 -> 0.0101 (the mirrored spin ankle among twenty taken by
-the roll ankle: mirrored max 0.028 -> 0.035), every worst unchanged. ``bench/follow_seeds.py
---sections=sized,unrelated,sequences``, seeds 107-112: sized up on 107, 110, 112 (mean 0.9034 ->
-0.9036), twenty within 20% on 111 0.313 -> 0.344, all else identical; 101-106: sized up on 101, 103,
-104, 105 (mean 0.9056 -> 0.9058), twenty within 20% on 101-103 0.344 / 0.281 / 0.219 -> 0.375 /
-0.313 / 0.25, all else identical.
-The straight start is read between states, where the path crosses :data:`OBSERVER` off its chord
-(:func:`straight_start_arc`), as the followed arc is read, not at the first whole state past it:
-the held-out kick wrist 7 -> 6.62 states (0.71 mm off at state 6, 2.67 at 7; covered on the
-tick before in 2 of 15 traced, 102 and 112), the crawl ankle 16 -> 15.03, the spin wrist 16 ->
-15.65, the roll wrist 4 -> 3.5; tuned the circle 11.81 -> 11.35, the backflip wrist 4 -> 3.08.
-``bench/follow_seeds.py --sections=sized,unrelated,sequences``: 101-106 twenty within 20% or by
-reach + 0.05 mean 0.526 -> 0.536 (102 and 103 up, worst 0.406 -> 0.438), within 20% 0.292 ->
-0.313; 107-112 within 20% 0.3125 -> 0.318 (108 up); every other figure identical.
-``bench/follow_quality.py``: six with no shared starts within 20% or by reach + 0.05 0.547 ->
-0.578, held-out twenty from rest median 0.215 -> 0.207; held-out pauses: one more performance
-drives before its pause (60 -> 61) and is not held through it (held through 0.917 -> 0.902,
-valid 0.951 -> 0.937: the same 55 held through), tuned own stroke mean 0.04669 -> 0.04697.
+Or sooner where the ideal observer (:data:`OBSERVER`, 2 mm) tells it apart, though never
+before the template's own path leaves its chord by as much (its straight start:
+:mod:`behaviors.mop.straight_start`, which holds what was measured).
 A need set by the template's own straight start (above where the observer tells it apart, under the
 misfit's bound and ``coverage``) is read at its best timing offset *ahead* of the followed state
 (:func:`arc_ahead`: the least of commitment's shape sums within ``COMMIT_LAGS`` states,
@@ -451,45 +428,3 @@ def arc_ahead(lags: np.ndarray, k: int, g: float, first: int, last: int, states:
     a = states[jl + off, col]
     return a + (at - jl) * (states[min(jl + 1, last) + off, col] - a)
 
-
-def straight_start_arc(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, arc: np.ndarray,
-                       tolerance: float) -> np.ndarray:
-    """Per template, the arc of its path (``arc``) where its path so far first leaves the chord
-    from its first point to there by more than ``tolerance`` (raw units, as ``rel``), read
-    between states (:func:`_leaves_at`) as the followed arc is: before it the path is a straight
-    stroke, the start of any stroke in its direction; its last state's arc when it never leaves
-    it."""
-    out = np.empty(len(starts))
-    for k, (s, n) in enumerate(zip(starts, lengths)):
-        p = rel[s:s + n] - rel[s]
-        out[k] = arc[s + n - 1]
-        for i in range(1, n):
-            if _off_chord(p[:i], p[i]) > tolerance:
-                t = _leaves_at(p[:i], p[i], tolerance)
-                out[k] = arc[s + i - 1] + t * (arc[s + i] - arc[s + i - 1])
-                break
-    return out
-
-
-def _off_chord(before: np.ndarray, q: np.ndarray) -> float:
-    """The largest distance of the points ``before`` and ``q`` from the line through the first
-    of ``before`` (the origin) and ``q`` (0 for a chord too short to point anywhere)."""
-    chord = float(np.linalg.norm(q))
-    if chord < 1e-12:
-        return 0.0
-    u = q / chord
-    off = before - np.outer(before @ u, u)
-    return float(np.sqrt(np.max(np.einsum("ij,ij->i", off, off))))
-
-
-def _leaves_at(before: np.ndarray, q: np.ndarray, tolerance: float) -> float:
-    """Where along the segment from the last of ``before`` to ``q`` (0..1) the path first leaves
-    its chord by ``tolerance`` (bisection: it is within at 0, beyond at 1)."""
-    lo, hi = 0.0, 1.0
-    for _ in range(30):
-        mid = 0.5 * (lo + hi)
-        if _off_chord(before, before[-1] + mid * (q - before[-1])) > tolerance:
-            hi = mid
-        else:
-            lo = mid
-    return hi

@@ -252,6 +252,7 @@ from behaviors.mop import coverage
 from behaviors.mop.misfit_size import reread
 from behaviors.mop.path_kernel import nearest_on_paths
 from behaviors.mop.spotting import SHARE_SIZES
+from behaviors.mop.straight_start import straight_start_arc
 from behaviors.mop.threshold_lead import ThresholdLead
 from behaviors.mop.validity import unjudged
 
@@ -307,11 +308,10 @@ class Refusal(ThresholdLead):
             told = coverage.told_apart_arc(rel, b.starts, b.lengths, self._arc, b.scale, sizes,
                                            self.shape_accept * self.sigma)
             # ... or where the ideal observer tells it apart, though never on the template's
-            # own straight start (coverage.OBSERVER, straight_start_arc)
+            # own straight start (coverage.OBSERVER, straight_start.straight_start_arc)
             seen = coverage.told_apart_arc(rel, b.starts, b.lengths, self._arc,
                                            np.ones_like(b.scale), sizes, coverage.OBSERVER)
-            straight = coverage.straight_start_arc(rel, b.starts, b.lengths, self._arc,
-                                                   coverage.OBSERVER)
+            straight = straight_start_arc(rel, b.starts, b.lengths, self._arc, coverage.OBSERVER)
             # (a need set by the own straight start is read at the best timing offset ahead:
             # coverage.arc_ahead)
             self._read_ahead = (straight >= seen) & (straight < told) & (straight < self._arc_need)

@@ -99,7 +99,7 @@ def test_coverage_is_lowered_only_where_the_template_set_tells_a_start_apart():
     assert all(_need(f, n) == pytest.approx(0.08)
                for n in ("figure_eight", "line", "square", "wave"))
     # the circle where its path leaves its chord by 2 mm, read between states (7.3% of its path,
-    # 0.199 of it), the observer telling it apart sooner (coverage.straight_start_arc)
+    # 0.199 of it), the observer telling it apart sooner (straight_start.straight_start_arc)
     assert 0.07 < _need(f, "circle") < 0.076
     # the zigzag's own first stroke loaded as a template, or the zigzag alone: nothing tells it
     # apart sooner
@@ -190,33 +190,6 @@ def test_a_group_keeps_a_start_covered_sooner_to_its_path_as_its_followers_alone
     alone = [puck_follower(six) for _ in streams]
     group = FollowerGroup([puck_follower(six) for _ in streams])
     assert _step_both(alone, group, streams) > 20
-
-
-def test_a_straight_start_lasts_until_the_path_leaves_its_chord():
-    # 0.1 m straight along x in 1 cm steps, then a quarter turn of 5 cm radius: the path leaves
-    # its chord by 2 mm a few samples into the turn; a straight line never does
-    line = np.c_[np.linspace(0.0, 0.1, 11), np.zeros(11)]
-    a = np.linspace(0.0, np.pi / 2, 16)[1:]
-    turn = np.c_[0.1 + 0.05 * np.sin(a), 0.05 * (1.0 - np.cos(a))]
-    rel = np.vstack([line, turn, line])
-    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(rel, axis=0), axis=1))]
-    arc[26:] = arc[26:] - arc[26]
-    got = coverage.straight_start_arc(rel, np.array([0, 26]), np.array([26, 11]), arc,
-                                      coverage.OBSERVER)
-    assert 0.1 < got[0] < 0.13, got
-    assert got[1] == pytest.approx(0.1)
-
-
-def test_a_straight_start_ends_between_states_where_it_leaves_its_chord():
-    # 0.1 m along x in 1 cm steps, then one step of 1 cm up and 1 cm on: the point at 0.1 m
-    # lies 2 mm off the chord to a fifth of that step (arc 0.1 + 0.2 x 14.1 mm), not at its end
-    # (0.114 m, the whole state: the held-out kick wrist's need 7 -> 6.62 states, held-out
-    # twenty within 20% or by reach + 0.05 101-106 0.526 -> 0.536; coverage.py)
-    rel = np.vstack([np.c_[np.linspace(0.0, 0.1, 11), np.zeros(11)], [[0.11, 0.01]]])
-    arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(rel, axis=0), axis=1))]
-    got = coverage.straight_start_arc(rel, np.array([0]), np.array([12]), arc,
-                                      coverage.OBSERVER)
-    assert 0.1025 < got[0] < 0.1035, got
 
 
 def _recognised(templates: dict, name: str) -> list[float]:

@@ -285,8 +285,8 @@ def test_an_attempt_begun_at_a_return_is_anchored_again_where_the_input_rests():
 def test_a_group_anchors_an_attempt_begun_at_a_return_again_as_its_followers_alone():
     # member_spotting.spot's re-anchor at rest, the group's form of the rule above: every state
     # equal (valid ticks measured: 66, 67 with the straight start read between states,
-    # coverage.straight_start_arc, 68 with shape_lead.CONFIRM_GAIN; 64 while the tempo read the
-    # ended attempt, tempo.before_attempt; 50 without the rule)
+    # straight_start.straight_start_arc, 68 with shape_lead.CONFIRM_GAIN; 64 while the tempo read
+    # the ended attempt, tempo.before_attempt; 50 without the rule)
     from tests.mop.helpers import group_beside_alone
     templates, x, _, _ = _returned_end_stream()
     assert group_beside_alone(lambda: puck_follower(templates), [x]) == [68]
