@@ -317,6 +317,11 @@ class Refusal(ThresholdLead):
             self._read_ahead = (straight >= seen) & (straight < told) & (straight < self._arc_need)
             np.minimum(self._arc_need, np.minimum(told, np.maximum(seen, straight)),
                        out=self._arc_need)
+        # covered sooner, held to its path until it has gone on past ``coverage`` by
+        # coverage.LATE_UNTIL times the arc it was let off (-inf: asked all of it, never held)
+        let_off = self._arc_full - self._arc_need
+        self._late_until = np.where(let_off > 0.0, self._arc_full + coverage.LATE_UNTIL * let_off,
+                                    -np.inf)
         self._misfit_decay = 1.0 - 1.0 / self.shape_memory
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2
@@ -408,10 +413,8 @@ class Refusal(ThresholdLead):
         # ... and, covered sooner, not while it is off its path by more than coverage.EARLY_FIT
         # short of ``coverage`` of its path, nor by more than LATE_FIT past it until it has gone
         # on by LATE_UNTIL times the arc it was let off
-        early = self._arc_need < self._arc_full
         fit2 = np.where(covered < self._arc_full, coverage.EARLY_FIT, coverage.LATE_FIT) ** 2
-        until = self._arc_full + coverage.LATE_UNTIL * (self._arc_full - self._arc_need)
-        self._covered &= ~early | (covered >= until) | (m2 <= fit2)
+        self._covered &= (covered >= self._late_until) | (m2 <= fit2)
 
     def _recent_dist2(self, k: int) -> float:
         """Template ``k``'s recent likelihood as a squared distance in its own spread (the
