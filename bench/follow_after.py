@@ -42,7 +42,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from bench.motions import JITTER_M, LEAD_S, RATE, at_phase, phase_of, unrelated_motions
+from bench.motions import at_phase, phase_of, then_at_once, unrelated_motions
 
 #: The unrelated strokes played after each gesture (``unrelated_motions``' names).
 STROKES = ("diagonal", "triangle", "spiral", "wander")
@@ -67,7 +67,6 @@ def after(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.random
     # per motion, the share of ticks each action whose start the stroke is drives, and the rest
     starts: dict[tuple[str, str, str], list[float]] = {}
     rest: dict[tuple[str, str], list[float]] = {}
-    lead = int(LEAD_S * RATE)
     memo: dict = {}
     shares: dict[tuple[str, str], list[float]] = {}
     told: dict[tuple[str, str], list[float]] = {}
@@ -77,11 +76,8 @@ def after(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.random
                 phase, _ = phase_of(rng, len(tpl))
                 gesture = float(rng.uniform(0.8, 1.2)) * at_phase(tpl, phase)
                 stroke_phase, _ = phase_of(rng, len(paths[name]))
-                stroke = scale * at_phase(paths[name], stroke_phase) + gesture[-1]
-                x = np.concatenate([np.zeros((lead, 2)), gesture, stroke,
-                                    np.repeat(stroke[-1:], lead, 0)])
-                x = x + rng.normal(0, JITTER_M, x.shape)
-                start = lead + len(gesture)
+                stroke = scale * at_phase(paths[name], stroke_phase)
+                x, start = then_at_once(gesture, stroke, rng)
                 states = run(f, x)[start + ENDED_TICKS:start + len(stroke)]
                 # the stroke's progress (0-1) at each counted tick
                 prog = stroke_phase[ENDED_TICKS:] / (len(paths[name]) - 1)
@@ -128,7 +124,6 @@ def stroke_first(factory: Callable, templates: Mapping[str, np.ndarray],
     if f is None:
         return {}
     paths = unrelated_motions(rng, templates)
-    lead = int(LEAD_S * RATE)
     recognised, wrong = [], []
     for g, tpl in templates.items():
         for name in STROKES:
@@ -136,11 +131,8 @@ def stroke_first(factory: Callable, templates: Mapping[str, np.ndarray],
                 stroke_phase, _ = phase_of(rng, len(paths[name]))
                 stroke = scale * at_phase(paths[name], stroke_phase)
                 phase, _ = phase_of(rng, len(tpl))
-                gesture = float(rng.uniform(0.8, 1.2)) * at_phase(tpl, phase) + stroke[-1]
-                x = np.concatenate([np.zeros((lead, 2)), stroke, gesture,
-                                    np.repeat(gesture[-1:], lead, 0)])
-                x = x + rng.normal(0, JITTER_M, x.shape)
-                start = lead + len(stroke)
+                gesture = float(rng.uniform(0.8, 1.2)) * at_phase(tpl, phase)
+                x, start = then_at_once(stroke, gesture, rng)
                 states = run(f, x)[start:start + len(gesture)]
                 recognised.append(any(s.valid and s.best == g for s in states))
                 wrong.append(float(np.mean([s.valid and s.best != g for s in states])))

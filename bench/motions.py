@@ -307,3 +307,14 @@ def back_to_back(rng: np.random.Generator, templates: dict[str, np.ndarray],
     truth = [None] * lead + truth + [order[-1]] * lead
     prog = np.concatenate([np.full(lead, np.nan)] + prog + [np.full(lead, np.nan)])
     return x, truth, prog, order
+
+
+def then_at_once(first: np.ndarray, second: np.ndarray,
+                 rng: np.random.Generator) -> tuple[np.ndarray, int]:
+    """``first`` then, with no rest, ``second`` moved to begin where ``first`` ended (both (n, 2)
+    metres from their first point), between still rests of ``LEAD_S``, with the tracker's
+    jitter: samples (T, 2) and the index of ``second``'s first sample."""
+    second = second + first[-1]
+    lead = int(LEAD_S * RATE)
+    x = np.concatenate([np.zeros((lead, 2)), first, second, np.repeat(second[-1:], lead, 0)])
+    return x + rng.normal(0, JITTER_M, x.shape), lead + len(first)

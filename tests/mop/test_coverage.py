@@ -12,9 +12,10 @@ import pytest
 from behaviors.mop import bends, coverage
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
+from bench.follow_after import ENDED_TICKS
 from bench.follow_quality import puck_follower
-from bench.motions import (JITTER_M, LEAD_S, MOCAP_HELD_OUT, RATE, at_phase, gesture_templates,
-                           mocap_templates, performance, phase_of, unrelated_motions)
+from bench.motions import (MOCAP_HELD_OUT, at_phase, gesture_templates, mocap_templates,
+                           performance, phase_of, then_at_once, unrelated_motions)
 from tabletop.cli import main as cli
 from tabletop.plugins.mop_table import EXAMPLES
 
@@ -158,11 +159,9 @@ def _after(seed: int, name: str, scale: float) -> tuple[np.ndarray, slice]:
     rng = np.random.default_rng(seed)
     wander = unrelated_motions(rng, six)["wander"]
     gesture = at_phase(six[name], phase_of(rng, len(six[name]))[0])
-    stroke = scale * at_phase(wander, phase_of(rng, len(wander))[0]) + gesture[-1]
-    lead = int(LEAD_S * RATE)
-    x = np.concatenate([np.zeros((lead, 2)), gesture, stroke, np.repeat(stroke[-1:], lead, 0)])
-    start = lead + len(gesture)
-    return x + rng.normal(0, JITTER_M, x.shape), slice(start + 2, start + len(stroke))
+    stroke = scale * at_phase(wander, phase_of(rng, len(wander))[0])
+    x, start = then_at_once(gesture, stroke, rng)
+    return x, slice(start + ENDED_TICKS, start + len(stroke))
 
 
 #: Wanders after a gesture that the zigzag, covered at 2.6% of its path among the six, follows

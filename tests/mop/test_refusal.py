@@ -221,18 +221,15 @@ def _diagonals_after(gestures) -> list[tuple[np.ndarray, int]]:
     """A circle, square or wave, then at once a diagonal stroke from where it ended (1.0 and 1.4x,
     time-warped, then a rest, with jitter; ``bench/follow_after.py``'s draw, seeded): each
     performance and where its stroke begins."""
-    from bench.motions import JITTER_M, LEAD_S, RATE, at_phase, phase_of
+    from bench.motions import at_phase, phase_of, then_at_once
     out = []
-    lead = int(LEAD_S * RATE)
     for seed, g in enumerate(("circle", "square", "wave")):
         rng = np.random.default_rng(seed)
         path = unrelated_motions(rng, gestures)["diagonal"]
         for scale in (1.0, 1.4):
             gesture = at_phase(gestures[g], phase_of(rng, len(gestures[g]))[0])
-            stroke = scale * at_phase(path, phase_of(rng, len(path))[0]) + gesture[-1]
-            x = np.concatenate([np.zeros((lead, 2)), gesture, stroke,
-                                np.repeat(stroke[-1:], lead, 0)])
-            out.append((x + rng.normal(0, JITTER_M, x.shape), lead + len(gesture)))
+            stroke = scale * at_phase(path, phase_of(rng, len(path))[0])
+            out.append(then_at_once(gesture, stroke, rng))
     return out
 
 
