@@ -26,6 +26,7 @@ from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
 from tabletop.drawing.palette import resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
+from tabletop.drawing.sprites import Sprites  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
 from tabletop.pointer import POINTER, PointerFingers  # noqa: E402
 from tabletop.table_map import TableToScreen  # noqa: E402
@@ -91,8 +92,7 @@ class Renderer:
         outline_kernel.warm()
         self.map = TableToScreen(table, size, margin, homography)
         self.puck_radius = puck_radius
-        self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
-        self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
+        self._sprites = Sprites(sprites)   # characters drawn as images
         self._overlay_key: tuple[str, ...] = ()
         self._overlay_cap = 0        # the height (px) the panel was fitted to
         self._overlay_w = (0, 0)     # the window size the panel was made for (px)
@@ -330,7 +330,7 @@ class Renderer:
                 hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)
             return P.union([hinted, self._draw_points(target, c, pose, c.points, hint)])
         if c.name in self._sprites:
-            return self._draw_sprite(target, c, pose)
+            return self._sprites.draw(target, c, pose, self.map)
         if c.kind == "playback":   # the main take played back in the studio
             return characters.draw_playback(target, pose, self.puck_radius,
                                             self.map.reading())
@@ -364,28 +364,6 @@ class Renderer:
         """One character fully present (no fade), as it would be drawn standing still."""
         pr = Presence(c, born=-math.inf, t=0.0, seed=seed_of(c.name))
         self._draw_presence(target, pr, None, self._places([pr], None)[0].tolist())
-
-    def _draw_sprite(self, target: pygame.Surface, c: CharacterState,
-                     pose: Pose) -> pygame.Rect | None:
-        img = self._sprites[c.name]
-        px_size = c.size * pose.ppm * pose.scale * pose.breath
-        # Screen y points down: a counter-clockwise table heading is a counter-clockwise rotation
-        # on screen when the table's y axis points up the screen (the uncalibrated fit).
-        deg = int(round(-math.degrees(pose.angle) / 2.0)) * 2
-        key = (c.name, deg % 360, int(px_size))
-        surf = self._sprite_cache.get(key)
-        if surf is None:
-            zoom = px_size / max(img.get_width(), 1)
-            if self.map.reading().mirrored:   # mirrored across its heading: the table mirrors
-                img = pygame.transform.flip(img, False, True)     # it back the right way round
-            surf = pygame.transform.rotozoom(img, deg, zoom)
-            if len(self._sprite_cache) > 2048:
-                self._sprite_cache.clear()
-            self._sprite_cache[key] = surf
-        g = P.glow(target, pose.center, 0.8 * c.size * pose.ppm, pose.color, 0.28 * pose.alpha)
-        surf.set_alpha(int(255 * pose.alpha))
-        return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
-                                                                    int(pose.center[1]))))])
 
     def draw_overlay(self, target: pygame.Surface, lines: Sequence[str],
                      avoid: Sequence[pygame.Rect] | None = None,
