@@ -303,7 +303,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._once = np.zeros(len(self.names), dtype=bool)
         self._lost = 0
         # this attempt began at an end read as a return, and whether the pending one is
-        # (spotting.REANCHOR_RADII)
+        # (gesture_end.REANCHOR_RADII)
         self._begun_at_return = self._end_returned = False
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0
@@ -338,7 +338,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._end_nearing = False
         # the anchor less that point, for the next gesture (None: no end before it)
         self._take_shift: np.ndarray | None = None
-        # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
+        # where a gesture never recognised was followed to its end (gesture_end.UNSEEN_END)
         self._unseen_x: np.ndarray | None = None
         self._unseen_last: np.ndarray | None = None
         self._state: FollowState | None = None

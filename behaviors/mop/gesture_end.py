@@ -200,6 +200,34 @@ RETURN_RADIUS = 0.05
 #: column) since the sample before has one sample less of grace
 #: (:meth:`GestureEnd._arrived`): the performer stopped there a sample before.
 ARRIVE_RADIUS = 2.0
+#: A gesture never recognised (nothing drove since the attempt began) whose likeliest template,
+#: neither refused nor valid, is followed to ``end`` ends there, pending as a recognised end is:
+#: a new attempt starts once the input moves on from that point (:meth:`GestureEnd._moved_on`),
+#: anchored there, and the next gesture is followed afresh, not on the old sums. Only where the
+#: template was followed to its end in step (its progress the sample before at least
+#: ``TEMPO_END_FROM``, below ``end``); the ended template is shown at its end until the next
+#: gesture engages. ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` 101-112: twenty
+#: within 20% 104 0.313 -> 0.344, 107 0.281 -> 0.313, 109 0.188 -> 0.219 (the getup at 0.18 of
+#: it), longest wrong run 109 4 -> 3, all else unchanged; ``bench/follow_quality.py``: held-out
+#: after a stroke recognised 0.333 -> 0.375, all else unchanged. Measured and not kept: without
+#: the in-step condition a leap to a spinkick's end on a mirrored dance restarted it and let a
+#: zigzag drive (unrelated valid share mean 0.00967 -> 0.00998); without the ended template
+#: shown, a bent jump never valid, the input moving on at 0.97 of it, showed 0.02 (held-out bent
+#: 5% progress RMSE median 0.02346 -> 0.02359).
+UNSEEN_END = True
+#: An attempt begun at an end read as a return (:meth:`GestureEnd._returned`), nothing driven since,
+#: is anchored again at the mean of its last ``still_samples`` samples where the input comes to rest
+#: (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from its anchor (0:
+#: never; follower and group, ``member_spotting.spot``). A return is read where the input passes the
+#: template's last point, often at speed: held-out seed 106's dance ankle, followed back down its
+#: path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where the wave began at
+#: rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at 0.717.
+#: ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty templates'
+#: longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281 (the wave at
+#: 0.263); every other figure identical, and on 107-112 and in ``bench/follow_quality.py``. Traced
+#: and not kept: after any end (not only a return), a cartwheel ankle's own start, 5 mm out then a
+#: rest, was anchored again there and recognised at 0.384 (0.290; 106's twelfth sequence).
+REANCHOR_RADII = 4.0
 
 
 def arrived(recent: list[np.ndarray], radius: np.ndarray) -> int:
@@ -256,7 +284,7 @@ class GestureEnd:
         reached, by more than the jitter of a still input (:data:`MOVE_RADII` in a column), so
         the next gesture has begun; the slow final approach to the last point is not moving on.
         ``end_x``, ``last``: another end and its last point (a gesture never recognised,
-        :data:`~behaviors.mop.spotting.UNSEEN_END`); by default the end reached.
+        :data:`UNSEEN_END`); by default the end reached.
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed.
         The last point is taken where the end was reached (``_end_last``): the size estimate goes
@@ -295,7 +323,7 @@ class GestureEnd:
         mirrored spin ankle no longer restarts part way: the backflip wrist followed back over it
         passes its last point at speed, and the new attempt the test's threshold model is carried
         into never begins. The attempt begun at a return is anchored again where the input comes
-        to rest (:data:`~behaviors.mop.spotting.REANCHOR_RADII`)."""
+        to rest (:data:`REANCHOR_RADII`)."""
         if self._peak - progress < RETURN_BACK:
             return False
         r = (x - self._last_point(k)) / self._units

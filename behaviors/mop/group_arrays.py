@@ -127,7 +127,7 @@ class GroupArrays:
         self._rev_turn, self._rev_way = np.zeros((m, dmax)), np.zeros((m, dmax))
         self._rev_age = np.full(m, -1, dtype=np.intp)
         self._has_end = np.zeros(m, dtype=bool)
-        # where a gesture never recognised was followed to its end (spotting.UNSEEN_END)
+        # where a gesture never recognised was followed to its end (gesture_end.UNSEEN_END)
         self._unseen_x, self._unseen_last = np.zeros((m, dmax)), np.zeros((m, dmax))
         self._has_unseen = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)

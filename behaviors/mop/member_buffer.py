@@ -109,7 +109,7 @@ def rests_off(buf: np.ndarray, count: np.ndarray, i: int, last: int, point: np.n
               radius: np.ndarray, radii: float) -> bool:
     """Whether the mean of member ``i``'s last ``last`` buffered samples lies farther than
     ``radii`` times ``radius`` (D,) from ``point`` (D,) in some column (spotting: re-anchored at
-    rest, :data:`~behaviors.mop.spotting.REANCHOR_RADII`)."""
+    rest, :data:`~behaviors.mop.gesture_end.REANCHOR_RADII`)."""
     s = buf.shape[1]
     n = min(count[i], last)
     for c in range(buf.shape[2]):

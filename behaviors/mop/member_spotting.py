@@ -32,7 +32,7 @@ _FA1, _BA1 = numba.float64[:], numba.boolean[:]
 #: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
 #: every template was refused too long; the input is still and waiting (anchored at its mean);
 #: it moved on from where a template never valid was followed to its end
-#: (:data:`~behaviors.mop.spotting.UNSEEN_END`).
+#: (:data:`~behaviors.mop.gesture_end.UNSEEN_END`).
 GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING, UNSEEN = range(6)
 
 

@@ -24,13 +24,13 @@ from behaviors.mop import (blocked, gesture_end, group_layout, halts, handover, 
                            member_spotting, member_validity, overrun, path_kernel, shape_lead,
                            speed_profile, spotting, take_fit, take_rule, tempo, validity)
 from behaviors.mop.blocked import BLOCKED_SAMPLES, BLOCKED_SIZE
-from behaviors.mop.gesture_end import END_GRACE, RETURN_BACK, RETURN_RADIUS
+from behaviors.mop.gesture_end import (END_GRACE, REANCHOR_RADII, RETURN_BACK, RETURN_RADIUS,
+                                       UNSEEN_END)
 # (members.push and the rest of the buffer's stay importable from here)
 from behaviors.mop.member_buffer import arrived, nearest, push, recent_mean, still  # noqa: F401
 from behaviors.mop.member_spotting import (GOES_ON, departed, finished_short, lead_gain,
                                            moved_on, shares, spot)
 from behaviors.mop.shape_lead import COMMIT_FIT, CONFIRM_GAIN, DRIFT_SAMPLES, SHAPE_SPREAD
-from behaviors.mop.spotting import REANCHOR_RADII, UNSEEN_END
 from behaviors.mop.tempo import LEAST_TEMPO
 from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST, LEAP_STATES
 from behaviors.kernel_cache import compiled
@@ -343,7 +343,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                                               + anchor[i, c] / units[c])
                     acc += r * r
                 ended = math.sqrt(acc) <= RETURN_RADIUS * sk * extent[gb]
-                m_flags[20, i] = ended   # (read as a return: spotting.REANCHOR_RADII)
+                m_flags[20, i] = ended   # (read as a return: gesture_end.REANCHOR_RADII)
             if ended:
                 end_x[i] = x[i]
                 for c in range(d):

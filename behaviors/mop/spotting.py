@@ -96,10 +96,11 @@ template shown at its end after it (as after a recognised end) and the attempt b
 the input rests or moves on (as after a recognised end, ``not ok`` or a step off the null
 model): sized unchanged and 104/107/109 as above, but held-out bent 10% progress RMSE median
 0.0405 -> 0.0411 (a spin wrist never valid, bent, followed to its end before the performer's:
-0.029 -> 0.107). Without ``not ok`` 109 is lost again. Kept instead: :data:`UNSEEN_END`, an
-end of its own pending until the input moves on from it. Not kept either: the same end where
-another template drove earlier in the attempt (a sized walk at 0.7x, valid, lost, valid at its
-last sample again, lost that sample: 104 0.9028 -> 0.9025).
+0.029 -> 0.107). Without ``not ok`` 109 is lost again. Kept instead:
+:data:`~behaviors.mop.gesture_end.UNSEEN_END`, an end of its own pending until the input moves
+on from it. Not kept either: the same end where another template drove earlier in the attempt
+(a sized walk at 0.7x, valid, lost, valid at its last sample again, lost that sample: 104
+0.9028 -> 0.9025).
 
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
@@ -207,8 +208,8 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.under_way import step_length, underway
 from behaviors.mop.gesture_end import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII,  # noqa: F401
-                                       RETURN_BACK, RETURN_RADIUS, GestureEnd, arrived,
-                                       drives)
+                                       REANCHOR_RADII, RETURN_BACK, RETURN_RADIUS,
+                                       UNSEEN_END, GestureEnd, arrived, drives)
 from behaviors.mop.handover import (TEMPO_END_FROM, TEMPO_END_KEEP, finished, nearest, slowed,
                                     tempo_ended)
 
@@ -221,34 +222,6 @@ SHARE_SKIP = 3
 #: A template whose followed progress fell this far below its highest since the gesture began
 #: is going back: no start read forwards, so it keeps no other action from driving.
 SHARE_BACK = 0.03
-#: A gesture never recognised (nothing drove since the attempt began) whose likeliest template,
-#: neither refused nor valid, is followed to ``end`` ends there, pending as a recognised end is:
-#: a new attempt starts once the input moves on from that point (:meth:`GestureEnd._moved_on`),
-#: anchored there, and the next gesture is followed afresh, not on the old sums. Only where the
-#: template was followed to its end in step (its progress the sample before at least
-#: ``TEMPO_END_FROM``, below ``end``); the ended template is shown at its end until the next
-#: gesture engages. ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` 101-112: twenty
-#: within 20% 104 0.313 -> 0.344, 107 0.281 -> 0.313, 109 0.188 -> 0.219 (the getup at 0.18 of
-#: it), longest wrong run 109 4 -> 3, all else unchanged; ``bench/follow_quality.py``: held-out
-#: after a stroke recognised 0.333 -> 0.375, all else unchanged. Measured and not kept: without
-#: the in-step condition a leap to a spinkick's end on a mirrored dance restarted it and let a
-#: zigzag drive (unrelated valid share mean 0.00967 -> 0.00998); without the ended template
-#: shown, a bent jump never valid, the input moving on at 0.97 of it, showed 0.02 (held-out bent
-#: 5% progress RMSE median 0.02346 -> 0.02359).
-UNSEEN_END = True
-#: An attempt begun at an end read as a return (:meth:`GestureEnd._returned`), nothing driven since,
-#: is anchored again at the mean of its last ``still_samples`` samples where the input comes to rest
-#: (:func:`~behaviors.mop.tempo.resting`) farther than this many still radii from its anchor (0:
-#: never; follower and group, ``member_spotting.spot``). A return is read where the input passes the
-#: template's last point, often at speed: held-out seed 106's dance ankle, followed back down its
-#: path, was ended at 0.905 of it and the wave's attempt anchored 13 mm from where the wave began at
-#: rest; a crawl ankle (size 0.63) drove 4 ticks of the wave, recognised at 0.717.
-#: ``bench/follow_seeds.py --sections=sized,unrelated,sequences`` (101-106): twenty templates'
-#: longest wrong run 106 4 -> 3, within 20% 104 0.344 -> 0.375, 106 0.250 -> 0.281 (the wave at
-#: 0.263); every other figure identical, and on 107-112 and in ``bench/follow_quality.py``. Traced
-#: and not kept: after any end (not only a return), a cartwheel ankle's own start, 5 mm out then a
-#: rest, was anchored again there and recognised at 0.384 (0.290; 106's twelfth sequence).
-REANCHOR_RADII = 4.0
 
 
 class GestureSpotting(GestureEnd):
@@ -346,7 +319,7 @@ class GestureSpotting(GestureEnd):
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
             self._lagged = lagged
-            # (read as a return: spotting.REANCHOR_RADII)
+            # (read as a return: gesture_end.REANCHOR_RADII)
             self._end_returned = not ((valid and progress >= self.end) or done or lagged)
             self._end_near, self._end_nearing = self._end_x.copy(), True
         elif self._end_x is not None:

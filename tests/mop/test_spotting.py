@@ -239,7 +239,7 @@ def _unseen_end_stream() -> tuple[dict, np.ndarray, list, np.ndarray]:
 
 def test_a_gesture_never_recognised_ends_where_the_input_moves_on_from_its_templates_end():
     # the punch is never valid; its template is followed to its end, pending there, and the
-    # getup moves on from that point (spotting.UNSEEN_END): followed afresh. Measured: the
+    # getup moves on from that point (gesture_end.UNSEEN_END): followed afresh. Measured: the
     # getup recognised at 0.18 of it, no wrong tick; without the rule the getup is followed on
     # the punch's sums, never recognised, and the punch drives it for 6 ticks
     templates, x, truth, prog = _unseen_end_stream()
@@ -271,7 +271,7 @@ def _returned_end_stream() -> tuple[dict, np.ndarray, list, np.ndarray]:
 
 def test_an_attempt_begun_at_a_return_is_anchored_again_where_the_input_rests():
     # the dance's end read as a return anchors the wave's attempt 13 mm from where the wave
-    # begins; the input rests there before anything drives (spotting.REANCHOR_RADII). Measured:
+    # begins; the input rests there before anything drives (gesture_end.REANCHOR_RADII). Measured:
     # no wrong tick, the wave recognised at 0.263 of it; without the rule the crawl ankle drives
     # 4 ticks of the wave and the wave is recognised at 0.717
     templates, x, truth, prog = _returned_end_stream()
