@@ -393,7 +393,7 @@ FOLLOWERS: dict[str, Factory] = {"puck": puck_follower, "cli_default": paper_fol
 
 def main() -> None:
     global SIGMA
-    from tabletop.plugins.mop import FOLLOWER
+    from tabletop.plugins.mop_follower import FOLLOWER
     spec = FOLLOWER.fields["sigma"]
     check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": SECTION_NAMES},
                 {"sigma": (spec.lo, spec.hi), "seed": (0, 999999)})
