@@ -11,7 +11,7 @@ import yaml
 from tabletop.config import load_config
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.simulate import SimClock, simulated
-from tabletop.recorder import RESUME_EVERY_S
+from tabletop.recorder_resume import RESUME_EVERY_S
 from tabletop.schema import ConfigError
 from tests.kiosk.test_kiosk_lock import status
 from tracking.scenes import wait_for

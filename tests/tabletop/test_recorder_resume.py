@@ -14,7 +14,8 @@ import time
 import numpy as np
 
 from tabletop.frames import Frame
-from tabletop.recorder import RESUME_EVERY_S, Recorder, read_frames, read_header
+from tabletop.recorder import Recorder, read_frames, read_header
+from tabletop.recorder_resume import RESUME_EVERY_S
 
 HEADER = {"format": "tabletop-session", "version": 2, "config": {"note": "x" * 300}}
 
@@ -266,7 +267,7 @@ def test_a_part_whose_folder_was_removed_goes_on_in_a_new_part(tmp_path, caplog)
     that is lost, and the new part replays with its times."""
     import shutil
 
-    from tabletop.recorder import REMOVED_CHECK_S
+    from tabletop.recorder_resume import REMOVED_CHECK_S
     caplog.set_level("INFO", logger="tabletop")
     folder = tmp_path / "sessions"
     rec = Recorder(folder=folder, header=HEADER)
