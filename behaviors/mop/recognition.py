@@ -125,18 +125,7 @@ class Recognition:
         ``offset`` on."""
         k = len(self.names)
         b = self.bank
-        # every sample joins the take's last samples (take_rule._fits_take), a rest's too.
-        # Measured and not kept: in an attempt where nothing drove, a rest pushes none of the
-        # motion out of them (a still puck resting where held-out 103's mirrored square among
-        # twenty ended took the roll wrist once they held the rest alone). follow_seeds.py
-        # --sections=sized,unrelated,sequences: unrelated worst 101-106 0.1030 -> 0.0974 (103),
-        # 107-112 identical; follow_quality.py: unrelated mean 0.0101 -> 0.0099, held-out own
-        # strokes told max 0.116 -> 0.091; but held-out bent 10% 0.47255 -> 0.47216 (a bent crawl
-        # ankle whose own hold kept its older samples, taken a sample later). Without "nothing
-        # drove": a cartwheel's holds no longer helped its re-take at its end (106's twenty
-        # within 20% 0.25 -> 0.22); no rest sample at all: 104 sized 0.9099 -> 0.9070. And an
-        # aimless wander with the take sizes up to 1.4 (test_refusal's crawl) 48 -> 72 valid
-        # ticks over eight seeds
+        # every sample joins the take's last samples, a rest's too (take_rule._remember_take)
         self._remember_take(x)
         mean = forward.mean[offset:offset + k]
         g = b.starts + np.minimum(mean, b.lengths - 1.0)
@@ -264,15 +253,7 @@ class Recognition:
         # a small best kept from driving BLOCKED_SAMPLES in a row is barred while it leads
         # and a rival trails it by no more than its size earns it (blocked.lead_of_size);
         # freed once it no longer leads, began anew, or may drive (_gone: as _shares reads it
-        # below). bench/follow_quality.py: held-out sized valid after 30% 0.9066 -> 0.9076 (the
-        # getup wrist at 1.4x under the kick's wrist sized 0.7), held-out bent 10% 0.4691 ->
-        # 0.4704, every other figure unchanged. Barred with no rival near too: tuned sized
-        # 0.9124 -> 0.9087 (the 0.7x spin ankle barred after its pause, 0.383 -> 0.021),
-        # held-out aspect 1.1 0.8674 -> 0.8500 (a dance ankle, 0.696 -> 0).
-        # bench/follow_seeds.py --sections=sized,unrelated,sequences 107-112: sized valid after
-        # 30% 0.8919/0.8828/0.8938/0.9066/0.8963/0.8950 -> 0.8925/0.8851/0.8938/0.9087/0.8989/
-        # 0.8972, told unrelated worst 109 0.0912 -> 0.0663; 101-106 sized mean 0.9000 ->
-        # 0.9008 (101 / 102 / 103 up), told 106 0.0562 -> 0.0438; the rest unchanged.
+        # below; the figures: blocked)
         barred = self._barred
         if barred >= 0:
             np.maximum(self._gone, progress, out=self._gone)
