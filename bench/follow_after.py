@@ -15,7 +15,7 @@ are not counted):
   stroke, averaged over the three sizes), as ``unrelated_valid_share_max`` takes the largest
   over motions; ``after_<stroke>_valid_share``: each stroke's mean over the six gestures;
 - ``after_told_valid_share_mean`` / ``_max``: the same, counting only ticks where the stroke so
-  far is no start of the action driving (:func:`bench.follow_quality.performs`);
+  far is no start of the action driving (:func:`bench.follow_unrelated.performs`);
   ``after_<stroke>_told_valid_share``: each stroke's mean;
 - ambiguous by construction: a stroke that is a gesture's start beyond 20% of that gesture
   (:func:`bench.follow_sequences.started_by`, the ideal observer at 2 mm: the diagonal is the

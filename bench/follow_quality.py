@@ -92,10 +92,10 @@ import numpy as np  # noqa: E402
 
 from bench.common import check_flags, emit  # noqa: E402
 from bench.follow_sequences import sequences  # noqa: E402
+from bench.follow_unrelated import performs, unrelated  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
-from bench.motions import (MOCAP, MOCAP_HELD_OUT, at_phase,  # noqa: E402
-                           gesture_templates, mirror_copies, mocap_templates, performance,
-                           raise_hold_return, unrelated_motions)
+from bench.motions import (MOCAP, MOCAP_HELD_OUT, gesture_templates,  # noqa: E402
+                           mocap_templates, performance, raise_hold_return)
 
 DEBUG = "--debug" in sys.argv
 #: The evaluation's sections, in the order they draw their random numbers (:func:`evaluate`).
@@ -186,109 +186,6 @@ def holds(factory: Factory, base: dict[str, np.ndarray],
             "hold_recognised_at60_share": float(np.mean([m["at60"] for m in ms]))}
 
 
-#: How far (metres) an unrelated motion so far may stray from a start of the action driving
-#: (at any size and tempo) for that action to be a reading of it a performer expects
-#: (:func:`performs`): twice the ideal observer's 2 mm (``bench/spotting_reach.py``), as a hand
-#: drawing a 15 cm line by eye wanders a few millimetres off it.
-PERFORMS_M = 0.004
-
-
-def performs(path: np.ndarray, p: float, other: np.ndarray, memo: dict, key: tuple) -> bool:
-    """Whether ``path`` up to progress ``p`` (noise-free) left its start and is a start of the
-    template ``other`` within :data:`PERFORMS_M` at some size and tempo: a partial performance
-    of ``other`` (the triangle's first stroke is a line drawn outward; a line out to the left
-    and back is an action that goes out to the left and most of the way back), which its
-    character may follow. A still puck performs nothing."""
-    key = (*key, round(p, 2))
-    if key not in memo:
-        from bench.spotting_reach import closest_start
-        prefix = at_phase(path, np.linspace(0, key[-1] * (len(path) - 1), int(400 * key[-1]) + 2))
-        moved = float(np.max(np.linalg.norm(prefix - prefix[0], axis=1))) > PERFORMS_M
-        memo[key] = moved and closest_start(prefix, other) <= PERFORMS_M
-    return memo[key]
-
-
-def motion_shares(f: ActionFollower | None, path: np.ndarray, x: np.ndarray, prog: np.ndarray,
-                  loaded: Mapping[str, np.ndarray], memo: dict, key: tuple) -> tuple[float, float]:
-    """(valid share, told valid share: :func:`unrelated`) of the performance ``x`` (true
-    progress ``prog``) of the unrelated ``path`` followed by ``f`` with ``loaded``."""
-    states = run(f, x)
-    # before the motion: nothing performed; after it: all of it
-    p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
-                 np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
-    told = np.mean([s.valid and not performs(path, float(q), loaded[s.best], memo,
-                                             (*key, s.best))
-                    for s, q in zip(states, p)]) if f is not None else 0.0
-    return float(np.mean([s.valid for s in states])), float(told)
-
-
-def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator,
-              strokes_rng: np.random.Generator) -> dict[str, float]:
-    """Valid share on motions that are none of the templates (``unrelated_..._valid_share``),
-    and the same counting only ticks where the action driving is one the motion so far does not
-    partially perform (``unrelated_..._told_valid_share``, :func:`performs`): a performer drawing
-    a stroke that *is* the start of an action expects its character to follow, whatever comes
-    after. Then the same of straight strokes along each template's own first direction
-    (``unrelated_own_stroke_...``, drawn with ``strokes_rng``: :mod:`bench.follow_strokes`)."""
-    from bench.follow_strokes import stroke_shares
-    out = {}
-    names = list(templates)
-    worst_all, told_worst = 0.0, 0.0
-    every: list[float] = []
-    told_every: list[float] = []
-    memo: dict = {}
-    own: list[float] = []
-    own_told: list[float] = []
-    for k in (1, 6, 20):
-        loaded = {n: templates[n] for n in names[:k]}
-        f = factory(loaded)
-        valid, told_valid = stroke_shares(f, loaded, strokes_rng, memo, k, motion_shares)
-        out[f"unrelated_{k}_templates_own_stroke_valid_share_max"] = max(valid.values())
-        out[f"unrelated_{k}_templates_own_stroke_told_valid_share_max"] = max(told_valid.values())
-        own += valid.values()
-        own_told += told_valid.values()
-        shares, told = {}, {}
-        copies = mirror_copies(loaded)
-        for name, path in unrelated_motions(rng, loaded, copies=True).items():
-            vals, told_vals = [], []
-            for scale in (0.7, 1.0, 1.4):
-                x, prog = performance(rng, path, scale)
-                if name in copies:   # another template performed: drawn, not counted
-                    continue
-                valid, told_valid = motion_shares(f, path, x, prog, loaded, memo, (k, name))
-                vals.append(valid)
-                told_vals.append(told_valid)
-            if name in copies:
-                continue
-            shares[name], told[name] = float(np.mean(vals)), float(np.mean(told_vals))
-            if DEBUG:
-                print(k, name, [round(float(v), 3) for v in vals],
-                      "told", [round(float(v), 3) for v in told_vals])
-        mirrored = [v for n, v in shares.items() if n.startswith("mirrored_")]
-        # every motion with this many templates loaded (the target holds for any count)
-        out[f"unrelated_{k}_templates_valid_share_mean"] = float(np.mean(list(shares.values())))
-        for base in ("diagonal", "triangle", "spiral", "wander", "still"):
-            out[f"unrelated_{k}_templates_{base}_valid_share"] = shares[base]
-        if mirrored:
-            out[f"unrelated_{k}_templates_mirrored_valid_share_max"] = float(max(mirrored))
-        out[f"unrelated_{k}_templates_told_valid_share_max"] = float(max(told.values()))
-        worst_all = max(worst_all, max(shares.values()))
-        told_worst = max(told_worst, max(told.values()))
-        every += shares.values()
-        told_every += told.values()
-    out["unrelated_valid_share_max"] = worst_all
-    # the mean over every motion and template count: how much of the refusal is won overall
-    out["unrelated_valid_share_mean"] = float(np.mean(every))
-    # what the issue's target counts: valid where the motion so far is no start of the action
-    out["unrelated_told_valid_share_max"] = told_worst
-    out["unrelated_told_valid_share_mean"] = float(np.mean(told_every))
-    out["unrelated_own_stroke_valid_share_max"] = max(own)
-    out["unrelated_own_stroke_valid_share_mean"] = float(np.mean(own))
-    out["unrelated_own_stroke_told_valid_share_max"] = max(own_told)
-    out["unrelated_own_stroke_told_valid_share_mean"] = float(np.mean(own_told))
-    return out
-
-
 #: The issue's targets: figure -> (comparison, limit); all of a gesture sequence's gestures
 #: recognised within 20% of their progress is a share of 1.
 TARGETS: dict[str, tuple[str, float]] = {
@@ -332,7 +229,7 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
                                                key="sequence_20_templates")],
              # (the own strokes with a seed of their own: the sections after draw as before)
              "unrelated": [lambda f: unrelated(f, everything, rng,
-                                               np.random.default_rng([seed, 2]))],
+                                               np.random.default_rng([seed, 2]), run, DEBUG)],
              # last, so the other sections draw what they drew before it was added
              "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG),
                        # a seed of its own: the sections after it draw what they drew before

@@ -10,10 +10,10 @@ start to :data:`FIRST` of its progress, drawn at 0.7, 1.0 and 1.4x as the sectio
 motions (time-warped, still before and after, tracking jitter; a seed of its own, so the other
 sections draw what they drew before).
 
-Figures (``unrelated_own_stroke_...``, :func:`bench.follow_quality.unrelated`): the share of
+Figures (``unrelated_own_stroke_...``, :func:`bench.follow_unrelated.unrelated`): the share of
 ticks valid, the largest over the strokes (each averaged over its three sizes) and the mean,
 and the same counting only ticks where the stroke so far is no start of the action driving
-(``told``, :func:`bench.follow_quality.performs`): while the stroke is still a template's
+(``told``, :func:`bench.follow_unrelated.performs`): while the stroke is still a template's
 start, its character may follow it. Measured (``bench/follow_quality.py``): valid share max
 0.247, told 0.098 (held out 0.517, told 0.116: a stroke along the punch ankle's own 15 cm first
 stroke drives it 0.51-0.58 of its ticks on seed 104); ``bench/follow_seeds.py --sections=unrelated``
@@ -55,7 +55,7 @@ def stroke_shares(f, loaded: Mapping[str, np.ndarray], rng: np.random.Generator,
     """Each own stroke of the ``loaded`` templates (``k`` of them) followed by ``f`` at
     :data:`SCALES`: ({stroke: valid share}, {stroke: told valid share}), each the mean over
     the sizes; ``shares(f, path, x, prog, loaded, memo, key)`` is
-    ``bench.follow_quality.motion_shares``."""
+    ``bench.follow_unrelated.motion_shares`` (its ``run`` given)."""
     valid, told = {}, {}
     for name, path in own_strokes(loaded).items():
         both = [shares(f, path, *performance(rng, path, scale), loaded, memo, (k, name))

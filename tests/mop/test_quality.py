@@ -209,8 +209,8 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
 def _unrelated_target(gestures) -> tuple[dict, dict]:
     """Per loaded set and motion (bench/follow_quality.py's unrelated motions at 0.7, 1.0,
     1.4x; seed 11): the share of ticks valid, and of those where the motion so far is no start
-    of the action driving (``told``, :func:`bench.follow_quality.performs`)."""
-    from bench.follow_quality import performs
+    of the action driving (``told``, :func:`bench.follow_unrelated.performs`)."""
+    from bench.follow_unrelated import performs
     valid, told, memo = {}, {}, {}
     for key in ("square", "six"):
         loaded = gestures if key == "six" else {key: gestures[key]}

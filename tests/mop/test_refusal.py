@@ -7,7 +7,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from bench.follow_quality import PERFORMS_M, performs, puck_follower
+from bench.follow_quality import puck_follower
+from bench.follow_unrelated import PERFORMS_M, performs
 from bench.motions import performance, unrelated_motions
 from behaviors.mop import bends, coverage, shape_lead, take_rule, tempo, threshold, validity
 from behaviors.mop.follower_validity import Validity
@@ -139,7 +140,7 @@ def test_a_group_reads_the_way_an_abandoned_attempt_came_as_its_followers_alone(
 
 
 def test_a_stroke_that_starts_an_action_is_read_as_its_performance(gestures):
-    # bench/follow_quality.performs: the triangle's first stroke is the line drawn outward, its
+    # bench/follow_unrelated.performs: the triangle's first stroke is the line drawn outward, its
     # second is not; a still puck performs nothing
     rng = np.random.default_rng(0)
     paths = unrelated_motions(rng, gestures)
