@@ -22,19 +22,18 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (blocked, commitment, coverage, fresh_refusal, group_layout,
-                           group_steps, holding, invariance, member_spotting, member_validity,
-                           members, misfit_size, path_kernel, reversal, rivals, shape_lead,
-                           size_probe, size_sums, spotting, tempo, threshold, threshold_kernel,
-                           validity)
+from behaviors.mop import (blocked, commitment, coverage, coverage_kernel, fresh_refusal,
+                           group_layout, group_steps, holding, invariance, member_spotting,
+                           member_validity, members, misfit_size, path_kernel, reversal, rivals,
+                           shape_lead, size_probe, size_sums, spotting, tempo, threshold,
+                           threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT
-from behaviors.mop.coverage import RUN_AHEAD, arc_ahead
+from behaviors.mop.coverage_kernel import cover
 from behaviors.mop.fresh_refusal import FRESH_WEIGHT, refused_after
 from behaviors.mop.group_layout import AHEAD, LAG0, MC_ROWS
 from behaviors.mop.group_steps import displacements, first_max, prefetch_ahead, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
-from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
-from behaviors.mop.threshold_kernel import threshold_step
+from behaviors.mop.threshold_kernel import threshold_evidence
 from behaviors.mop.reversal import (REVERSAL_LARGER_AHEAD, reversal_size, reversal_step,
                                     sizes_again)
 from behaviors.mop.member_validity import slow_of
@@ -42,19 +41,18 @@ from behaviors.mop.member_spotting import shares
 from behaviors.mop.members import committed
 from behaviors.mop.path_kernel import nearest_on_path
 from behaviors.mop.commitment import add_lagged
-from behaviors.mop.rivals import BROADER
+from behaviors.mop.rivals import least_rival
 from behaviors.mop.size_probe import probe_allowed, take_probe
 from behaviors.mop.size_sums import estimate_sums
 from behaviors.mop.shape_lead import DRIFT_FROM, DRIFT_HELD_AT_REST, KEPT_COMMIT
-from behaviors.mop.spotting import SHARE_BACK
 from behaviors.mop.validity import PAUSE_CARRY, PAUSE_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, fresh_refusal, group_layout,
-               group_steps, holding, invariance, member_spotting, member_validity, members,
-               misfit_size, path_kernel, reversal, rivals, shape_lead, size_probe, size_sums,
-               spotting, tempo, threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, blocked, commitment, coverage, coverage_kernel,
+               fresh_refusal, group_layout, group_steps, holding, invariance, member_spotting,
+               member_validity, members, misfit_size, path_kernel, reversal, rivals, shape_lead,
+               size_probe, size_sums, spotting, tempo, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -332,29 +330,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                   / misfit_w[k])
             m2 *= 1.0 / path_scale
             misshaped[k] = (misshaped[k] or m2 > shape2) and not m2 < shape_accept2
-            at = states[gf + off, arc]
-            at += (g - gf) * (states[min(gf + 1, last) + off, arc] - at)
-            # ... read at the best timing offset ahead where the need is the own straight start
-            # (tc's last column: coverage.arc_ahead)
-            if engaged[k] and (at >= t[3] or t[ahead] > 0.0 and arc_ahead(
-                    lags, k, g, start, last, states, off, arc) >= t[3]):
-                covered[k] = True
-            # ... and not while it runs far ahead of where the input went (coverage.RUN_AHEAD)
-            acc = 0.0
-            for c in range(d):
-                r = away[c] / t[sc0 + c] / sk
-                acc += r * r
-            reached[k] = max(reached[k], math.sqrt(acc / dims))
-            if at > RUN_AHEAD * reached[k]:
-                covered[k] = False
-            # ... and, covered sooner, not while off its path by > EARLY_FIT short of
-            # ``coverage`` of it, nor by > LATE_FIT past it until it has gone on by LATE_UNTIL
-            # times the arc it was let off (m[33], m[37]: coverage.EARLY_FIT, LATE_FIT squared;
-            # m[38]: LATE_UNTIL)
-            full = m[24] * states[last + off, arc]
-            if (t[3] < full and at < full + m[38] * (full - t[3])
-                    and m2 > (m[33] if at < full else m[37])):
-                covered[k] = False
+            # covered (coverage_kernel.cover: coverage, not while it runs ahead of the input
+            # nor, covered sooner, while off its path)
+            cover(states, lags, t, m, k, g, gf, start, last, off, arc, ahead, engaged[k], away,
+                  sc0, sk, d, dims, m2, covered, reached)
             # shape sums (ShapeLead._leads) and displacement (early feedback)
             acc = 0.0
             mv = 0.0
@@ -399,20 +378,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
             if not paused:   # (nor stepped in such a pause: validity.unweighed)
-                step = threshold_step(thr_means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
-                                      not thr_has_x[i], thr_total, i, thr_tops) - m[18]
                 lead = step_ll[first] - tc[first, 0]
                 lead -= dims * math.log(size[first])
-                still = thr_has_x[i]
-                for c in range(d):
-                    if abs(x[i, c] - thr_x[i, c]) > THRESHOLD_STILL_RADII * m[ra0 + c]:
-                        still = False
-                if not thr_has_x[i] or still:
-                    step = min(step, lead)
-                for c in range(d):
-                    thr_x[i, c] = x[i, c]
-                thr_has_x[i] = True
-                thr_ev[i] = thr_ev[i] * decay + step
+                threshold_evidence(thr_means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
+                                   thr_total, i, thr_tops, lead, decay, x, thr_x, thr_has_x,
+                                   thr_ev, ra0, d)
             kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
         kept_out[i] = kept
         gb = a0 + best[i]
@@ -454,19 +424,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         if bk >= 0 and math.isfinite(m[18]):
             kept_o = others / (others + math.exp(min(thr_ev[i] - ev[fb], 700.0)))
         bar_kept[i] = kept_o
-        rival = np.inf
-        spread = tc[gb, 0] + dims * math.log(size[gb])
-        for k in range(a0, a1):
-            if k == gb or refused[k] or shape[k] >= rival:
-                continue
-            # ... or broader and alike in shape (rivals.broad_rivals)
-            pk = p_out[k] if bk < 0 else (0.0 if k == bk else math.exp(ev[k] - ev[fb]) / others)
-            if pk * kept_o >= rival_p or (
-                    engaged[k] and covered[k] and not misshaped[k]
-                    and progress_out[k] >= gone[k] - SHARE_BACK
-                    and abs(shape[k] - shape[gb]) < min_lead
-                    and tc[k, 0] + dims * math.log(size[k]) > spread + BROADER):
-                rival = shape[k]
+        # the rivals' least shape sum (rivals.least_rival: probable, or broader and alike)
+        rival = least_rival(a0, a1, gb, bk, fb, others, kept_o, rival_p, min_lead, dims, ev, p_out,
+                            shape, size, gone, progress_out, refused, engaged, covered, misshaped,
+                            tc)
         # ... and only while its shape since the gesture began fits (ShapeLead._leads;
         # m[25]: shape_lead.TAKE_FIT squared, group_layout.MEMBER_SCALARS)
         leads_out[i] = (not shape[gb] > shape_n[i] * dims * m[25]

@@ -191,8 +191,14 @@ within 20% on 102 0.313 -> 0.281 and sized valid after 30% lower on 102, 104 and
 
 from __future__ import annotations
 
+import math
+
+import numba
 import numpy as np
 
+from behaviors.kernel_cache import compiled
+from behaviors.mop import spotting
+from behaviors.mop.compiled import CONTRACT
 from behaviors.mop.spotting import SHARE_BACK
 
 #: A template broader than the action by more than this many nats a sample (the evidence's
@@ -210,3 +216,40 @@ def broad_rivals(bi: int, spread: np.ndarray, open_: np.ndarray, progress: np.nd
     began) and within ``lead`` of its ``shape`` sum either way (the shape sums' units)."""
     return (open_ & (progress >= gone - SHARE_BACK) & (spread > spread[bi] + BROADER)
             & (np.abs(shape - shape[bi]) < lead))
+
+
+_FA1, _BA1 = numba.float64[:], numba.boolean[:]
+
+
+@compiled(numba.float64(numba.intp, numba.intp, numba.intp, numba.intp, numba.intp,
+                        numba.float64, numba.float64, numba.float64, numba.float64, numba.float64,
+                        _FA1, numba.float64[::1], _FA1, _FA1, _FA1, numba.float64[::1], _BA1, _BA1,
+                        _BA1, _BA1, numba.float64[:, ::1]),
+          spotting, fastmath=CONTRACT)
+def least_rival(a0: int, a1: int, gb: int, bk: int, fb: int, others: float, kept: float,
+                rival_p: float, lead: float, dims: float, ev: np.ndarray, p: np.ndarray,
+                shape: np.ndarray, size: np.ndarray, gone: np.ndarray, progress: np.ndarray,
+                refused: np.ndarray, engaged: np.ndarray, covered: np.ndarray,
+                misshaped: np.ndarray, tc: np.ndarray) -> float:
+    """The least shape sum among template ``gb``'s rivals in ``a0:a1`` (a group member's;
+    inf where none), compiled for the group's kernel (:meth:`ShapeLead._leads
+    <behaviors.mop.shape_lead.ShapeLead._leads>`): not refused, and probable (``p``, times the
+    threshold model's share ``kept``, at least ``rival_p``; with a barred best ``bk`` >= 0 the
+    probabilities among the others, ``fb`` the likeliest of them and ``others`` their
+    normaliser: :mod:`~behaviors.mop.blocked`) or broader by :data:`BROADER` and alike in shape
+    (:func:`broad_rivals`; ``lead``: the shape sums' lead, ``tc``'s first column and ``size``
+    each template's log spread and size, ``dims`` the member's columns)."""
+    rival = np.inf
+    spread = tc[gb, 0] + dims * math.log(size[gb])
+    for k in range(a0, a1):
+        if k == gb or refused[k] or shape[k] >= rival:
+            continue
+        # ... or broader and alike in shape (broad_rivals)
+        pk = p[k] if bk < 0 else (0.0 if k == bk else math.exp(ev[k] - ev[fb]) / others)
+        if pk * kept >= rival_p or (
+                engaged[k] and covered[k] and not misshaped[k]
+                and progress[k] >= gone[k] - SHARE_BACK
+                and abs(shape[k] - shape[gb]) < lead
+                and tc[k, 0] + dims * math.log(size[k]) > spread + BROADER):
+            rival = shape[k]
+    return rival

@@ -1,6 +1,7 @@
 """A follower group's threshold models (:mod:`behaviors.mop.threshold`), compiled: one
 member's step over every state of its templates, as
-:func:`behaviors.mop.group_kernel.update_templates` left the sample mapped by each template.
+:func:`behaviors.mop.group_kernel.update_templates` left the sample mapped by each template,
+and its evidence stepped with it (:func:`threshold_evidence`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from behaviors.mop import threshold
 from behaviors.mop.compiled import CONTRACT, exp_neg32
 from behaviors.mop.compiled import fma as _fma
 from behaviors.mop.threshold import MIRROR_KEEP, MIRROR_MOVES, TINY
+from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY
 from behaviors.kernel_cache import compiled
 
@@ -317,3 +319,30 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     totals[i] = total
     return float(top) + math.log(total)
 
+
+
+@compiled(numba.void(_S2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _S1, _S1, _F1,
+                     numba.intp, _F1, numba.float64, numba.float64, _F2, _F2,
+                     numba.boolean[::1], _F1, numba.intp, numba.intp),
+          *_CALLS_INTO, fastmath=CONTRACT, _nrt=False)
+def threshold_evidence(means, ti, m, a0, a1, zs, ljs, alpha, ll, totals, i, tops_k, lead, decay,
+                       x, seen, has_seen, ev, ra0, d) -> None:
+    """Member ``i``'s threshold model stepped with its sample (:meth:`ThresholdLead.
+    _threshold_evidence <behaviors.mop.threshold_lead.ThresholdLead._threshold_evidence>`): its
+    evidence ``ev[i]`` forgotten at ``decay`` and added the step (:func:`threshold_step`, less
+    the model's offset ``m[18]``), no more than ``lead`` (the template of most evidence's raw
+    log-likelihood) at the first sample or one within
+    :data:`~behaviors.mop.threshold.STILL_RADII` still radii (``m``'s columns from ``ra0``) of
+    the last (``seen[i]``, ``has_seen[i]``: ``x[i]`` kept)."""
+    step = threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, not has_seen[i], totals, i,
+                          tops_k) - m[18]
+    still = has_seen[i]
+    for c in range(d):
+        if abs(x[i, c] - seen[i, c]) > THRESHOLD_STILL_RADII * m[ra0 + c]:
+            still = False
+    if not has_seen[i] or still:
+        step = min(step, lead)
+    for c in range(d):
+        seen[i, c] = x[i, c]
+    has_seen[i] = True
+    ev[i] = ev[i] * decay + step
