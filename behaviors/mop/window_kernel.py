@@ -21,10 +21,13 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
+from behaviors.mop import emissions
 from behaviors.mop.compiled import CONTRACT, exp_neg, fma, prefetch
+from behaviors.mop.emissions import distances, stretched_distances
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (behaviors.mop.compiled,)   # the files whose compiled functions the kernels take in
+# the files whose compiled functions the kernels take in
+_CALLS_INTO = (behaviors.mop.compiled, emissions)
 
 START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
 CLAMP = -200.0        # log-weights below the window's best by more than this count as e^-200
@@ -37,9 +40,10 @@ AHEAD = 2             # templates ahead whose window states are fetched while on
 # best, interleaved, load 16; the same results to the bit).
 _U = numba.uintp
 _U1, _U2, _U3 = _U(1), _U(2), _U(3)
-# The helpers below are inlined into :func:`step_windows` (``inline="always"``: the same
-# operations; as calls, step_windows alone on real states of DESIGN's group took 378 -> 361 and
-# 397 -> 378 us at best, 410 -> 384 and 467 -> 464 us median, two interleaved runs at load 8).
+# The helpers below (and the emissions', :mod:`behaviors.mop.emissions`) are inlined into
+# :func:`step_windows` (``inline="always"``: the same operations; as calls, step_windows alone
+# on real states of DESIGN's group took 378 -> 361 and 397 -> 378 us at best, 410 -> 384 and
+# 467 -> 464 us median, two interleaved runs at load 8).
 
 
 @compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
@@ -96,77 +100,6 @@ def _transit(x: np.ndarray, y: np.ndarray, n: int, back: float, fwd: np.ndarray,
                 w += fwd[o]
             tail += w * x[n - k]
         y[n - 1] += tail
-
-
-@compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
-def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.ndarray) -> float:
-    """Squared distances (prescaled) of ``n`` states from ``first`` on to z; returns the least.
-    A puck's two features in one pass without the loop over features (the forward step 13 %
-    faster, hot and cold: ``bench/mop.py``'s group, same process). The least taken in four
-    interleaved parts (one chain of minima waits for each state's distance): this loop's share
-    of step_windows' perf samples 14 -> 11 %, but step_windows' share of the tick 19.4 -> 19.8 %
-    and its thread time p10 175, 185, 193 -> 184, 181, 183 us (alternating processes, load
-    16): not taken."""
-    best = np.inf
-    if z.size == 2:
-        z0, z1 = z[0], z[1]
-        for r in range(n):
-            u = _U(first + r)
-            d0 = means[u, 0] - z0
-            d1 = means[u, 1] - z1
-            acc = d0 * d0 + d1 * d1
-            out[r] = acc
-            best = min(best, acc)
-        return best
-    for r in range(n):
-        acc = 0.0
-        for i in range(z.size):
-            d = means[first + r, i] - z[i]
-            acc += d * d
-        out[r] = acc
-        if acc < best:
-            best = acc
-    return best
-
-
-@compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
-def _stretched_distances(means: np.ndarray, first: int, z: np.ndarray, n: int,
-                          out: np.ndarray, tangent: np.ndarray, half: np.ndarray,
-                          lift: np.ndarray) -> float:
-    """:func:`_distances` of a template with stretched states (only those: read for every
-    template, the stretch doubled the forward's median in DESIGN's group, 0.38 -> 0.71 ms): a
-    state stretched along its path (:mod:`behaviors.mop.stretch`: unit ``tangent``, prescaled
-    ``half``-length) is a segment: the part of the distance along it, up to ``half``, is not
-    counted (``c (2a - c)`` with ``c`` that part: exactly 0 for a point state), and its density
-    is spread over its length (``lift``: minus its log normaliser over a point's, 0 for a point).
-    """
-    best = np.inf
-    if z.size == 2:
-        z0, z1 = z[0], z[1]
-        for r in range(n):
-            u = _U(first + r)
-            d0 = means[u, 0] - z0
-            d1 = means[u, 1] - z1
-            a = abs(d0 * tangent[u, 0] + d1 * tangent[u, 1])
-            c = min(half[u], a)
-            acc = d0 * d0 + d1 * d1 - c * (2.0 * a - c) + lift[u]
-            out[r] = acc
-            best = min(best, acc)
-        return best
-    for r in range(n):
-        acc = 0.0
-        a = 0.0
-        for i in range(z.size):
-            d = means[first + r, i] - z[i]
-            acc += d * d
-            a += d * tangent[first + r, i]
-        a = abs(a)
-        c = min(half[first + r], a)
-        acc += lift[first + r] - c * (2.0 * a - c)
-        out[r] = acc
-        if acc < best:
-            best = acc
-    return best
 
 
 _F1, _F2, _I1, _B1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1], numba.boolean[::1]
@@ -273,14 +206,14 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
         n8 = (n + 7) // 8 * 8
         zj = z[j]
         if stretched[j]:
-            m = _stretched_distances(means, starts[j] + lo0, zj, n, lb, tangent, spans, lift)
+            m = stretched_distances(means, starts[j] + lo0, zj, n, lb, tangent, spans, lift)
             if full:
-                m = min(m, _stretched_distances(means, starts[j], zj, n, lbs, tangent, spans,
+                m = min(m, stretched_distances(means, starts[j], zj, n, lbs, tangent, spans,
                                                 lift))
         else:
-            m = _distances(means, starts[j] + lo0, zj, n, lb)
+            m = distances(means, starts[j] + lo0, zj, n, lb)
             if full:
-                m = min(m, _distances(means, starts[j], zj, n, lbs))
+                m = min(m, distances(means, starts[j], zj, n, lbs))
         for r in range(n, n8):   # (a longer window's states may lie there)
             lb[r] = lbs[r] = np.inf
         aj, bj = a[j], b[j]
