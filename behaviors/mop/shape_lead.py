@@ -108,7 +108,14 @@ the reach + 0.05 0.50 -> 0.53, unrelated mean 0.0084 -> 0.0085. The wider fit al
 2 / 2.5): no within-20% share up, held-out twenty's or by the reach + 0.05 0.688 -> 0.656, unrelated
 worst 0.058 -> 0.065 / 0.070; the confirmation alone (12 nats, committed to within ``COMMIT_FIT``):
 within 20% unchanged, by the reach + 0.05 0.375 / 0.406 -> 0.438 / 0.469, unrelated worst 104 0.079
--> 0.082.
+-> 0.082. The lead that leaps again, with :data:`~behaviors.mop.coverage.LATE_FIT` in place
+(``bench/follow_quality.py``, tuned / held-out: six within 20% 0.156 / 0.125 -> 0.188 / 0.156, sized
+0.9189 / 0.9260 -> 0.9222 / 0.9267, tuned own stroke told worst 0.037 -> 0.041, every other worst
+unchanged); ``bench/follow_seeds.py``: after a gesture worsts unchanged on 101-112, six within 20%
+(mean) 0.104 / 0.109 -> 0.130 / 0.141, but unrelated worst 104 0.073 -> 0.089 (its wander among six
+at 1.4x 0.137 -> 0.178: the zigzag committed 12 samples in at a fit of 2.28, gain 26 nats, 0.67
+probable), after a gesture without the diagonal's figure eight 107 0.0915 -> 0.0943, twenty within
+20% 107 0.344 -> 0.313 (or by the reach + 0.05 0.563 -> 0.531).
 
 Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
 longest, where the six gestures' paths part, is 2 ticks.

@@ -29,6 +29,25 @@ reach + 0.05 mean 0.526 -> 0.536 (102 and 103 up, worst 0.406 -> 0.438), within 
 held-out twenty from rest median 0.215 -> 0.207; held-out pauses: one more performance drives before
 its pause (60 -> 61) and is not held through it (held through 0.917 -> 0.902, valid 0.951 -> 0.937:
 the same 55 held through), tuned own stroke mean 0.04669 -> 0.04697.
+The wave back to back (reach 0.13, told from the bench's unrelated strokes at 0.12), traced per tick
+from its reach to recognition (``bench.spotting_reach.gate_state``; the six of
+``bench/follow_quality.py``'s sequences, tuned and held-out 101, and ``bench/follow_seeds.py``'s
+105 and 109: 22 waves, recognised at 0.209-0.267): from the reach held by coverage, probability,
+``best``, the lead and the start shared with the figure eight; the lead clears at 0.16-0.23 and the
+shared start at 0.175-0.22 (both by 0.19 in 7 of 22, by 0.20 in 14), then coverage, probability and
+``best`` together at 0.199-0.249 (its 8%: commitment waits for it), then the confirmation's sample.
+Its told-from-unrelated 0.12 is the direction alone: its path keeps within 2 mm of its chord to
+0.25, and the observer tells it from a straight stroke along its chord (at 0.2) at 0.25, 5 degrees
+off at 0.20, 10 at 0.18, 15 or more at 0.12 (the diagonal lies 21 off, the triangle's and the
+spiral's first strokes 66): nothing the input shows tells it from a stroke in its own direction
+before 0.20. With this bound lifted (the observer's need alone, held to ``EARLY_FIT``), a straight
+stroke along the wave's chord (0.7, 1 and 1.4x from rest, 12 draws, six loaded) is driven by the
+wave 0.114 -> 0.148 of its ticks, the diagonal by the figure eight 0.062 -> 0.145: the price the
+bench counts for the figure eight (``coverage``) it does not count for the wave, whose direction
+no stroke it draws takes. The wave's need lifted altogether, the ceiling of any coverage rule for it
+(the follower alone, ``--sections=sequences``, tuned / held-out): the wave within 20% 0 / 0 -> 0.14
+/ 0 (median 0.225 / 0.229 -> 0.210 / 0.211): the lead, the shared start and the confirmation's
+sample then hold it.
 """
 
 from __future__ import annotations
