@@ -62,6 +62,27 @@ by-reach share unchanged (the line freed at 0.38-0.45, recognised at 0.40-0.48 w
 confirmation), but held-out unrelated worst 0.091 -> 0.116 (the punch ankle on mirrored strokes
 among twenty), the tuned triangle among six 0.042 -> 0.065 (the line on its first stroke, its
 start).
+Per tick from the line's reach (0.35) to its recognition (``bench.spotting_reach.gate_state``;
+``bench/follow_quality.py``'s sequences, tuned and held-out 101, six and twenty): this shared
+start holds every tick but the confirmation's last, the lead too up to 0.34-0.40 in half of them.
+The square waits at its corner (25.4-26.2), its misfit (16 samples) 0.1-0.45 sigma as it gets
+there, rising 0.1-0.15 a sample; the input's distance off its path at one sample is 0.6-1.2
+sigma a sample or two after it gets there, 1.3-2.4 after. Measured and not kept: a rival past
+its stretch whose misfit is beyond 0.5 / 0.4 sigma no longer holds the action: the held-out line
+0.525 -> 0.445 / 0.438, no share moved, at 0.4 held-out twenty's avoidable wrong run 2 -> 6. Nor
+one the input strays from at that sample by more than 1.0 sigma (``|u / size - v|`` as the
+misfit reads it) where it does not stray from the action's path: the six by reach + 0.05 0.500 /
+0.500 -> 0.531 / 0.531, the line 0.455 / 0.525 -> 0.435 / 0.445, the circle 0.262 / 0.266 ->
+0.248 / 0.250, no target crossed; ``bench/follow_seeds.py`` (whatever the action's stray)
+101-106 / 107-112 six by reach + 0.05 mean 0.391 / 0.411 -> 0.443 / 0.464, but own strokes told
+valid worst 0.045 / 0.076 -> 0.116 / 0.113 (105 0.116, 106 0.102, 108 0.113 either way; on
+106 the held-out backflip left ankle's among twenty, under 0.03 -> 0.102): a straight stroke is
+freed where its rival's path turns off it. At 1.2 sigma 105 0.107, 106 0.102; read only at the
+end of the rival's stretch 0.116, 0.102, 0.113 (six by reach + 0.05 mean 0.417 / 0.432); at 0.8
+sigma held-out six's avoidable wrong run 0 -> 2.
+The figure eight's recognition minus reach (0.134 / 0.117) is against its reach among the six
+(0.11); against the diagonal's (0.21) it is 0.03 / 0.02: recognised by reach + 0.05 in 25 of 27
+(tuned and held-out 101-103), the confirmation's sample the last gate in 26.
 At the first sample every check passes (before the confirmation's) the true gestures and the
 unrelated strokes after a gesture read alike (medians, tuned and held-out 101; the lead tuned):
 lead 16.8 / 13.1 nats, commitment's fit 2.1 / 2.3 still radii RMS, last drift 1.7 / 1.7, size
