@@ -68,6 +68,22 @@ motions' 1.8-10.6 radii, 0.1-4 nats behind. With the fit kept within 2.5 radii: 
 unrelated worst 0.060 (a wander among six), a template's own stroke told 0.098 -> 0.100. With no
 bound on the evidence (2, 3 or 5 samples): held-out twenty within 20% or by the reach 0.625 ->
 0.531 / 0.531 / 0.563 (a getup wrist taking a punch ankle 6-10 nats behind, the line a square).
+Traced again, tick by tick from the reach to recognition (twenty, tuned / held-out 101-103 and 107:
+23 of 32 / 76 of 128 later than the reach + 0.05; progress past the reach summed 2.6 / 9.2):
+several gates at once 1.5 / 5.8, nearly always probability and ``best`` together (where they are
+the first, commitment closed by the own fit over ``COMMIT_FIT`` 0.44 / 1.52, half of it within 2.3
+still radii, by a rival less in shape 0.35 / 0.44); the likeliest rival there: tuned the walk ankle
+on the kick and roll ankles 0.46, the getup wrist on the spinkick and roll ankles 0.34; held-out
+the jump ankle on the backflip ankle 1.53, the spin wrist on the circle 0.97, the cartwheel ankle
+on the zigzag and the wave 0.75, the punch ankle on the getup wrist 0.27. One gate alone: the
+confirmation's sample 0.56 / 1.25, a shared start 0.28 / 0.10, coverage 0.14 / 0.57 (the followed
+arc 0.8-0.98 of its need), the take's fit 0.02 / 0.90 (0.6 of it a line on 107 never taken: its
+last samples off its path, its shape 6 still radii off), the lead 0.10 / 0.36. The circle among six
+(29 circles, 25 past 0.25, recognised at 0.25-0.30): coverage 0.49, the confirmation 0.47, the lead
+over the line 0.24, this fit 0.18, the line's shared start 0.18: a sample each, handed on.
+``COMMIT_FIT`` 2.0 (``bench/follow_quality.py``, tuned / held-out): by the reach + 0.05 unchanged
+(0.281 / 0.531), within 20% or by it 0.50 / 0.688 -> 0.50 / 0.656, unrelated worst 0.058 -> 0.065
+(a wander among six), held-out own stroke told 0.008 -> 0.033: not kept.
 """
 
 from __future__ import annotations

@@ -66,6 +66,9 @@ followed state. Measured and not kept, every need under 8% read ahead (the zigza
 too): the held-out twenty's within-20%-or-reach shares up 0.005 and 0.010, but a template's own
 stroke told on seed 109 0.091 -> 0.101 and unrelated told on 110 0.034 -> 0.077 (the zigzag taken
 on the wander).
+Read ahead also for the template least in shape leading every other not refused by ``LEAD`` 4 or 8
+(``--sections=sequences``, tuned / held-out): twenty by the reach + 0.05 unchanged (0.281 / 0.531),
+past the reach 0.0785 -> 0.0779 held-out, six 0.375 -> 0.406 tuned (4 only); not kept.
 Less coverage for every template alike (``bench/follow_quality.py``, tuned): with every template
 asked 8% of its path, what holds the open three is coverage (at 0.22-0.25 of their progress): less
 coverage measured against 8% (at 8%: open share 0, the zigzag 0.257, the wave 0.225, unrelated
