@@ -368,29 +368,20 @@ it: after 110 0.101 -> 0.076, 111 0.149 -> 0.108, but six within 20% or by reach
 0.131, held-out six by reach + 0.05 0.500 -> 0.469 (``bench/follow_quality.py``). 110's worst is one
 motion, the wave then the diagonal (0.7x 0.138), the figure eight driving much of it on its path.
 Traced again (``bench/follow_seeds.py``): 111's wave on the wanders reaches ``coverage`` 0.56-1.05
-sigma off its path (at most 0.81-1.35 since it engaged 7-24 samples before) and its misfit then
-*falls* to 0.42-0.77 as it drives; true gestures back to back reach it as far off (the held-out
-figure eight 0.57 / 0.71, at most 0.81 / 0.92 since engaged, on 101 / 102), a 0.7x one before its
-size is known too (the zigzag 0.64-0.92), and the sized figure eights' misfit rises past it. Not
-kept, for templates asked all of ``coverage``, to three times it: uncovered until within ``f`` of
-its path on some sample past it: 0.5 (0.55 on 101, 110, 111): after 110 0.101 -> 0.076 (0.084), 111
-0.149 -> 0.120, but sized lower on 8 of 12 (106 0.9098 -> 0.9094; at 0.55 110 and 111 by 0.0002-3, a
-0.7x zigzag's sample), six by reach + 0.05 101 0.500 -> 0.469 at 0.5 (the figure eight 0.251 ->
-0.266); 0.4: 111 0.096, but twenty within 20% 110 0.406 -> 0.375, sized 111 0.907 -> 0.904; 0.4 only
-where it reached ``coverage`` over 6 samples after engaging (to 3 / 2.5 times it): 111 0.096 / 0.102
-(107 / 109 0.095 / 0.090 -> 0.091 / 0.086; 110 and every back-to-back figure the same on 101-112;
-``bench/follow_quality.py``'s after mean 0.039 -> 0.035), but sized lower on 8 of 12 (106 0.9098 ->
-0.9090 / 0.9092, 111 0.9071 -> 0.9040 / 0.9067: a 0.7x backflip ankle), at 2.5 the tuned 0.6 / 1.5x
-recognised by their end 0.975 -> 0.95 and held-out a gesture straight after a stroke 0.375 -> 0.347.
-Built at 3 times in the follower and the group's kernel alike it measured as screened on 101-112 and
-``bench/follow_quality.py`` (the CLI default's after mean 0.397 -> 0.315), but on 113-118 (never
-tuned on) no after worst moved (116 0.107) and sized fell 0.0032 on 113 (0.9197 -> 0.9164; 111
-0.0031), at 2.5 times alike: the gain is 111's alone. Its trend, uncovered while over 0.3 sigma and
-over its least since by 0.1: 111 0.140, sized 111 0.907 -> 0.894, twenty within 20% 111 0.344 ->
-0.281. 105's zigzag on the wanders where it first drives (21 draws; 67 true ones back to back,
-101-112 and 13): progress 0.151-0.178 / 0.158-0.22, size 1.0 both (not yet estimated), speed 0.8-3.9
-/ 2.4-18 mm a sample (q90 3.2 / q10 3.0), 12-22 / 16-38 mm from the anchor, engaged 3-7 / 1-10
-samples before, misfit 0.09-0.21 / 0.02-0.07 (under 4.5% of its path): none parts them with a
+sigma off its path and its misfit then *falls* (0.42-0.77) as it drives; true gestures back to back
+reach it as far off (the held-out figure eight 0.57 / 0.71 on 101 / 102), a 0.7x one before its size
+is known too (the zigzag 0.64-0.92). Not kept, for templates asked all of ``coverage``, to three
+times it, uncovered until within ``f`` of its path on some sample past it: 0.5: after 110 0.101 ->
+0.076, 111 0.149 -> 0.120, but sized lower on 8 of 12, six by reach + 0.05 101 0.500 -> 0.469; 0.4:
+111 0.096, but twenty within 20% 110 0.406 -> 0.375; 0.4 only where it reached ``coverage`` over 6
+samples after engaging (built in the follower and the group's kernel alike): 111 0.096, 107 / 109
+0.095 / 0.090 -> 0.091 / 0.086, every back-to-back figure the same on 101-112, the tuned 0.6 / 1.5x
+recognised by their end 0.975 -> 0.95, and on 113-118 (never tuned on) no after worst moved (116
+0.107) while sized fell 0.0032 on 113 (0.9197 -> 0.9164; 111 0.9071 -> 0.9040): the gain is 111's
+alone. The misfit's trend (uncovered while over 0.3 sigma and over its least since by 0.1): 111
+0.140, sized 111 0.907 -> 0.894. 105's zigzag where it first drives on the wanders (21 draws)
+against 67 true ones back to back: progress 0.151-0.178 / 0.158-0.22, speed 0.8-3.9 / 2.4-18 mm a
+sample, 12-22 / 16-38 mm from the anchor, misfit 0.09-0.21 / 0.02-0.07: none parts them with a
 margin.
 """
 
