@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from behaviors.mop import speed_profile
 from bench.follow_quality import puck_follower
 from tests.mop.helpers import run, solo
 
@@ -55,3 +56,24 @@ def test_a_group_hides_an_action_at_its_turn_as_its_followers_alone(name):
     from tests.mop.helpers import group_beside_alone
     templates, x, _ = _spin_on_circle_stream(name)
     assert group_beside_alone(lambda: puck_follower(templates), [x]) == [STREAMS[name][3]]
+
+
+def test_an_action_is_read_a_state_ahead_only_while_its_size_grows(monkeypatch):
+    # speed_profile.QUICK_GROWN: on 108's stream the spin wrist's followed state is one short of
+    # where its template slows (23.5, 0.26 of it) while its size grows 1.5 % in a sample, and the
+    # input quickens against the state ahead; the same sample with the size the sample before's
+    # is read at its own state alone and does not quicken (measured: the one such sample of the
+    # four streams' 512 calls)
+    calls = []
+    quickens = speed_profile.quickens
+
+    def recorded(*args):
+        calls.append(args)
+        return quickens(*args)
+
+    monkeypatch.setattr(speed_profile, "quickens", recorded)
+    templates, x, _ = _spin_on_circle_stream("108")
+    run(puck_follower(templates), x)
+    # quickens(..., g, progress, size, size_before, sigma)
+    read_ahead = [a for a in calls if quickens(*a) and not quickens(*a[:14], a[13], a[15])]
+    assert read_ahead, (len(calls), max(a[13] / a[14] for a in calls))
