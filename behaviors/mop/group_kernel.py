@@ -128,7 +128,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     covered, at_hold_end, fresh, seated = flags[:, 3], flags[:, 4], flags[:, 6], flags[:, 7]
     d = x.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
-    hend, hahead = 2 * d + 2, 2 * d + 3
+    hend, hahead, hbegin = 2 * d + 2, 2 * d + 3, 2 * d + 4
     sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
     ahead = tc.shape[1] - 1
     ra0, un0 = MC_ROWS, MC_ROWS + d                 # columns of mc
@@ -238,6 +238,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 at_hold_end[k] = at_hold_end[k] or rest
                 if at_hold_end[k]:
                     progress_out[k] = max(progress_out[k], row[hend])
+                else:   # ... and no further than where it begins before
+                    progress_out[k] = min(progress_out[k], row[hbegin])
             else:
                 at_hold_end[k] = False
             sk = size[k]

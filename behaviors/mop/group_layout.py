@@ -7,12 +7,12 @@ scalar. :class:`behaviors.mop.group_arrays.GroupArrays` fills them in this order
 
 from behaviors.mop.commitment import COMMIT_LAGS
 
-#: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
+#: Columns of the per-state array ``states`` (S, 2D + 5), one row per template state of the
 #: group (D: the widest member's features): its mean (D, raw template units), its place relative
 #: to the template's first in units (D), its progress (``source``) and its path length from the
 #: first state. Read around each followed state: one contiguous stretch per template (the
 #: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
-STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
+STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead", "hold_begin")
 #: Per-template scalars (columns of ``tc`` (K, 6 + 4D), then the rows ``scale``, ``center``,
 #: ``ufirst``, ``c_off`` of D columns each, then :data:`TEMPLATE_LAST`).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")

@@ -30,7 +30,12 @@ A performer holding an action rests where its template holds (a compressed hold,
   a hold is the same pose, and how long it lasts is unknown): a return begins with an eased
   start that looks held for a few samples, and a follower at the hold's first state was 0.25-0.3
   behind for those samples. Shown only once resting: reported from the hold's first state on,
-  the progress ran 0.3 ahead while a performer slowed into the hold.
+  the progress ran 0.3 ahead while a performer slowed into the hold. Before the rest, the
+  progress shown within a hold is no further than where it begins: a lift performed at 1.15x
+  (held-out seed 114, hold 1x) was sized 0.98-1.01 along its raise, so the input easing past
+  the 1x top put it in the hold at 0.35-0.55 (sized up to 1.15 by the reach) while the performer
+  was at 0.30-0.34, then at the hold's end (0.65) once it rested at 0.37: 0.33 of the
+  performance's 0.41 squared error, RMSE 0.067; seed 110's worst (a 1.12x lift, 0.058) the same.
 
 Measured with ``bench/follow_quality.py``'s raise-hold-return section (15 performances, holds
 0.3-3x at 0.8-1.2x; progress RMSE max / median, tuned and held-out seeds): before 0.055 /
@@ -38,7 +43,11 @@ Measured with ``bench/follow_quality.py``'s raise-hold-return section (15 perfor
 alone 0.055 / 0.028, 0.075 / 0.028; both 0.052 / 0.032, 0.048 / 0.030 (kept; longer holds
 cost about 0.005 each: the hold's last state lies 0.026 past where the bench's hold ends, in
 the return's eased start). The progress shown from the hold's first state on, without the
-rest: 0.107 / 0.040, 0.090 / 0.042.
+rest: 0.107 / 0.040, 0.090 / 0.042. No further than the hold's beginning before the rest
+(``bench/follow_seeds.py --sections=holds``, seeds 101-118): RMSE max worst .0669 (114) ->
+.0522 (114), 110 .0581 -> .0401, 102 .0560 -> .0378, 113 .0546 -> .0372, mean .0469 -> .0406,
+backward max unchanged; tuned .0555 -> .0348. Left in 114's .052: the hold's end shown at the
+rest's onset over the raise's last two samples (0.37, within 0.3 mm of the hold's pose).
 """
 
 from __future__ import annotations
@@ -71,20 +80,24 @@ HOLD_AHEAD = 9
 SNAP_RADII = 3.0
 
 
-def hold_maps(bank: TemplateBank, ahead: int = HOLD_AHEAD) -> tuple[np.ndarray, np.ndarray] | None:
+def hold_maps(bank: TemplateBank, ahead: int = HOLD_AHEAD
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """Per state of ``bank``: the progress where its hold ends when it is a state of a hold
-    inside a template (:func:`~behaviors.mop.hmm.inner_holds`; NaN elsewhere), and the first
-    state of such a hold within ``ahead`` states after it (-1 where none); None without holds."""
+    inside a template (:func:`~behaviors.mop.hmm.inner_holds`; NaN elsewhere), the first
+    state of such a hold within ``ahead`` states after it (-1 where none) and the progress where
+    its hold begins (NaN elsewhere); None without holds."""
     holds = inner_holds(bank)
     if not holds:
         return None
     end = np.full(len(bank.means), np.nan)
+    begin = np.full(len(bank.means), np.nan)
     first = np.full(len(bank.means), -1, dtype=np.intp)
     for a, b in holds:
         end[a:b] = bank.source[b - 1]
+        begin[a:b] = bank.source[a]
         start = int(bank.starts[np.searchsorted(bank.starts, a, side="right") - 1])
         first[max(a - ahead, start):a] = a
-    return end, first
+    return end, first, begin
 
 
 @compiled(numba.float64(numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
@@ -142,15 +155,16 @@ def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.nda
 
 
 def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray,
-                   rest: bool) -> np.ndarray:
+                   rest: bool, begin: np.ndarray) -> np.ndarray:
     """Each template's progress (K,) as shown: where its hold ends (``end``, NaN outside a hold)
     once the performer rested in it (``rest`` now; ``at_end`` (K,) remembers it, in place, until
-    the followed state leaves the hold)."""
+    the followed state leaves the hold), no further than where it begins (``begin``) before."""
     inside = ~np.isnan(end)
     if rest:
         at_end |= inside
     at_end &= inside
-    return np.where(at_end, np.fmax(progress, end), progress)
+    return np.where(at_end, np.fmax(progress, end),
+                    np.where(inside, np.fmin(progress, begin), progress))
 
 
 @compiled(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp,
@@ -185,6 +199,6 @@ def holding_columns(follower) -> np.ndarray:
     first state of a hold a few states ahead, -1 where none) for a group's state table."""
     n = len(follower.bank.means)
     if follower._holds is None:
-        return np.column_stack([np.full(n, np.nan), np.full(n, -1.0)])
-    end, first = follower._holds
-    return np.column_stack([end, first.astype(float)])
+        return np.column_stack([np.full(n, np.nan), np.full(n, -1.0), np.full(n, np.nan)])
+    end, first, begin = follower._holds
+    return np.column_stack([end, first.astype(float), begin])

@@ -146,7 +146,8 @@ class Recognition:
         self._reversal_sizes(x, gi)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
-            progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
+            progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest,
+                                      self._holds[2][gi])
         raw_ll = step_ll - self._jacobian
         if self.invariance == "scale":
             # (measured and not kept, no size Jacobian while resting: held-out seed 108 sized
