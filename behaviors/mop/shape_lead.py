@@ -146,7 +146,11 @@ mirrored paths among twenty (0.7 / 1 / 1.4x, same seeds) mean valid share 0.0146
 back to back recognised at p90 0.441 -> 0.446 (a square held 2 samples at its corner by the line,
 0.0005 probable, fitting its first side better by 5.5 nats); unweighed (no bound, every take):
 valid after 30% at 0.7-1.4x 0.9147 -> 0.9114. The evidence and the shape part on a shared stroke as
-they do on a wrong take.
+they do on a wrong take. On seeds never tuned on (``bench/follow_seeds.py --seeds=113,114,115,116,
+117,118``), three of the five avoidable runs over 2 ticks among twenty back to back are this: the
+spin wrist taken during the circle (114, 118: 0.25-0.36 of it, 4 ticks; its progress moving
+0.19 -> 0.28) and the punch ankle during the run ankle (113: 0.21-0.29, 3 ticks), the performed
+action leading the taken one in shape by 100-550 nats while its probability is 0.001-0.009.
 
 What holds the gestures an observer could tell by 20%: coverage (``coverage``, 8% of the path,
 :mod:`behaviors.mop.refusal`) is reached at 0.22-0.24 of every one of the six gestures (their
